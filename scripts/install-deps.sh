@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages bakesim needs to build, test and run.
+# Idempotent: does nothing (and prints nothing) when every package is present.
+set -euo pipefail
+
+PACKAGES=(
+  build-essential cmake ninja-build pkg-config
+  libeigen3-dev          # linear algebra
+  nlohmann-json3-dev     # scene files
+  libcli11-dev           # command line
+  libtbb-dev             # parallel loops
+  libspdlog-dev libfmt-dev  # logging, formatting
+  libnanoflann-dev       # kd-tree neighbour search
+  libtinyobjloader-dev   # OBJ meshes
+  libgtest-dev libgmock-dev libbenchmark-dev  # tests and benchmarks
+)
+
+missing=()
+for p in "${PACKAGES[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+[ ${#missing[@]} -eq 0 ] && exit 0
+
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+echo "install-deps: installing ${missing[*]}" >&2
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq >/dev/null
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null

@@ -1,0 +1,49 @@
+#pragma once
+// Parallel loops over index ranges (oneTBB underneath) and reductions whose
+// result does not depend on the number of threads: the range is cut into
+// fixed-size chunks independent of the thread count, each chunk is reduced
+// sequentially, and the chunk results are combined in order.
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <cstddef>
+#include <vector>
+
+namespace bakesim {
+
+template <class Fn>
+void parallel_for(std::size_t n, Fn&& fn, std::size_t grain = 256) {
+  if (n == 0) return;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, grain),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t i = r.begin(); i != r.end(); ++i) fn(i);
+                    });
+}
+
+// Calls fn(begin, end) on contiguous blocks; for loops that keep per-block scratch.
+template <class Fn>
+void parallel_blocks(std::size_t n, Fn&& fn, std::size_t grain = 256) {
+  if (n == 0) return;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, grain),
+                    [&](const tbb::blocked_range<std::size_t>& r) { fn(r.begin(), r.end()); });
+}
+
+inline constexpr std::size_t kReductionChunk = 4096;
+
+// Deterministic reduction. `chunk_fn(begin, end) -> T` reduces one chunk;
+// `combine(T, T) -> T` merges two chunk results, always in index order.
+template <class T, class ChunkFn, class Combine>
+T deterministic_reduce(std::size_t n, T identity, ChunkFn&& chunk_fn, Combine&& combine) {
+  const std::size_t chunks = (n + kReductionChunk - 1) / kReductionChunk;
+  std::vector<T> partial(chunks, identity);
+  tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
+    const std::size_t b = c * kReductionChunk;
+    const std::size_t e = std::min(n, b + kReductionChunk);
+    partial[c] = chunk_fn(b, e);
+  });
+  T result = identity;
+  for (const T& p : partial) result = combine(result, p);
+  return result;
+}
+
+}  // namespace bakesim

@@ -1,0 +1,31 @@
+#pragma once
+// The thin interface the frame loop drives. Each solver owns its state; the
+// loop asks for a stable step, steps, and reads particles for output.
+#include <string>
+#include <vector>
+
+#include "core/particles.hpp"
+#include "core/timers.hpp"
+
+namespace bakesim {
+
+class Solver {
+ public:
+  virtual ~Solver() = default;
+  virtual std::string name() const = 0;
+  // Largest stable time step for the current state (s).
+  virtual Real max_stable_dt() = 0;
+  // Which bound limited the last max_stable_dt() ("cfl", "viscosity", ...).
+  virtual std::string active_dt_bound() const = 0;
+  // Advances the state by dt; throws SimulationError on an invalid state.
+  virtual void step(Real dt) = 0;
+  virtual Real time() const = 0;
+  virtual const ParticleSet& particles() const = 0;
+  virtual const PhaseTimers& timers() const = 0;
+  // Interpolated quantities at a point (NaN where no particle is near).
+  virtual std::vector<Real> sample(const Vec3& x, const std::vector<std::string>& quantities) const = 0;
+  // Names accepted by sample().
+  virtual std::vector<std::string> probe_quantities() const = 0;
+};
+
+}  // namespace bakesim

@@ -1,0 +1,126 @@
+#include "geometry/shapes.hpp"
+
+#include <cmath>
+
+#include "core/errors.hpp"
+
+namespace bakesim {
+
+MeshShape::MeshShape(TriangleMesh mesh) : mesh_(std::move(mesh)) {
+  bounds_ = mesh_.bounds();
+  const Vec3 ext = bounds_.extent();
+  cell_ = std::max({ext.y(), ext.z(), 1e-9}) / 64.0;
+  ny_ = std::max(1, int(std::ceil(ext.y() / cell_)) + 1);
+  nz_ = std::max(1, int(std::ceil(ext.z() / cell_)) + 1);
+  rows_.assign(std::size_t(ny_) * nz_, {});
+  for (std::size_t t = 0; t < mesh_.triangles.size(); ++t) {
+    Aabb b = Aabb::empty_box();
+    for (int k = 0; k < 3; ++k) b.expand(mesh_.vertices[mesh_.triangles[t][k]]);
+    const int y0 = std::max(0, int((b.min.y() - bounds_.min.y()) / cell_));
+    const int y1 = std::min(ny_ - 1, int((b.max.y() - bounds_.min.y()) / cell_));
+    const int z0 = std::max(0, int((b.min.z() - bounds_.min.z()) / cell_));
+    const int z1 = std::min(nz_ - 1, int((b.max.z() - bounds_.min.z()) / cell_));
+    for (int z = z0; z <= z1; ++z)
+      for (int y = y0; y <= y1; ++y) rows_[std::size_t(y) + std::size_t(ny_) * z].push_back(std::uint32_t(t));
+  }
+}
+
+bool MeshShape::contains(const Vec3& p) const {
+  if (!bounds_.contains(p)) return false;
+  const int y = std::min(ny_ - 1, int((p.y() - bounds_.min.y()) / cell_));
+  const int z = std::min(nz_ - 1, int((p.z() - bounds_.min.z()) / cell_));
+  // A slightly skewed ray avoids counting a hit on a shared edge twice.
+  const Vec3 dir(1.0, 1.3e-7, 2.9e-7);
+  int crossings = 0;
+  for (std::uint32_t t : rows_[std::size_t(y) + std::size_t(ny_) * z]) {
+    const auto& tri = mesh_.triangles[t];
+    if (intersect_ray_triangle(p, dir, mesh_.vertices[tri[0]], mesh_.vertices[tri[1]], mesh_.vertices[tri[2]]))
+      ++crossings;
+  }
+  return (crossings & 1) != 0;
+}
+
+namespace {
+
+struct ContainsVisitor {
+  const Vec3& p;
+  bool operator()(const BoxShape& b) const {
+    return (p.array() >= b.min.array()).all() && (p.array() <= b.max.array()).all();
+  }
+  bool operator()(const SphereShape& s) const { return (p - s.center).squaredNorm() <= s.radius * s.radius; }
+  bool operator()(const CylinderShape& c) const {
+    const Vec3 d = p - c.center;
+    const Real along = d.dot(c.axis);
+    if (std::abs(along) > 0.5 * c.height) return false;
+    return (d - along * c.axis).squaredNorm() <= c.radius * c.radius;
+  }
+  bool operator()(const std::shared_ptr<const MeshShape>& m) const { return m->contains(p); }
+  bool operator()(const std::shared_ptr<const ShapeUnion>& u) const {
+    for (const Shape& s : u->parts)
+      if (contains(s, p)) return true;
+    return false;
+  }
+  bool operator()(const std::shared_ptr<const ShapeDifference>& d) const {
+    if (!contains(d->base, p)) return false;
+    for (const Shape& s : d->subtract)
+      if (contains(s, p)) return false;
+    return true;
+  }
+};
+
+struct BoundsVisitor {
+  Aabb operator()(const BoxShape& b) const { return {b.min, b.max}; }
+  Aabb operator()(const SphereShape& s) const {
+    return {s.center - Vec3::Constant(s.radius), s.center + Vec3::Constant(s.radius)};
+  }
+  Aabb operator()(const CylinderShape& c) const {
+    // Extent of a disc of radius r with unit normal a along axis k: r*sqrt(1 - a_k^2).
+    Vec3 disc;
+    for (int k = 0; k < 3; ++k) disc[k] = c.radius * std::sqrt(std::max(0.0, 1.0 - c.axis[k] * c.axis[k]));
+    const Vec3 half = 0.5 * c.height * c.axis.cwiseAbs() + disc;
+    return {c.center - half, c.center + half};
+  }
+  Aabb operator()(const std::shared_ptr<const MeshShape>& m) const { return m->bounds(); }
+  Aabb operator()(const std::shared_ptr<const ShapeUnion>& u) const {
+    Aabb b = Aabb::empty_box();
+    for (const Shape& s : u->parts) {
+      const Aabb p = bounds(s);
+      b.expand(p.min);
+      b.expand(p.max);
+    }
+    return b;
+  }
+  Aabb operator()(const std::shared_ptr<const ShapeDifference>& d) const { return bounds(d->base); }
+};
+
+}  // namespace
+
+bool contains(const Shape& s, const Vec3& p) { return std::visit(ContainsVisitor{p}, s); }
+Aabb bounds(const Shape& s) { return std::visit(BoundsVisitor{}, s); }
+
+std::vector<Vec3> sample_lattice(const Shape& s, Real spacing) {
+  if (!(spacing > 0)) throw Error("sample_lattice: spacing must be positive");
+  const Aabb b = bounds(s);
+  const Vec3 ext = b.extent();
+  const double cells = (ext.x() / spacing + 1) * (ext.y() / spacing + 1) * (ext.z() / spacing + 1);
+  if (cells > 2e9) throw Error("sample_lattice: shape is too large for its spacing");
+  const int nx = std::max(0, int(std::floor(ext.x() / spacing + 1e-9)));
+  const int ny = std::max(0, int(std::floor(ext.y() / spacing + 1e-9)));
+  const int nz = std::max(0, int(std::floor(ext.z() / spacing + 1e-9)));
+  // Centre the lattice inside the bounding box.
+  const Vec3 start = b.min + 0.5 * (ext - spacing * Vec3(nx, ny, nz)) + Vec3::Constant(0.5 * spacing);
+  std::vector<Vec3> points;
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) {
+        const Vec3 p = start + spacing * Vec3(i, j, k);
+        if (contains(s, p)) points.push_back(p);
+      }
+  return points;
+}
+
+Real volume_estimate(const Shape& s, Real spacing) {
+  return Real(sample_lattice(s, spacing).size()) * spacing * spacing * spacing;
+}
+
+}  // namespace bakesim

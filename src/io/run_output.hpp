@@ -1,0 +1,53 @@
+#pragma once
+// Everything a run writes into its directory:
+//   scene.json          the resolved scene (every default filled in)
+//   frames/NNNNN.ply    binary PLY per written frame
+//   frames/NNNNN.vtu    VTK XML per written frame, with particles.pvd listing them
+//   stats.csv           one row per frame
+//   log.txt             the run's log
+// Every file is written atomically (temporary name, then rename).
+#include <filesystem>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <spdlog/logger.h>
+
+#include "io/particle_files.hpp"
+#include "io/scene.hpp"
+#include "sim/frame_loop.hpp"
+
+namespace bakesim {
+
+// A logger that keeps its text for log.txt and optionally echoes to stderr.
+class RunLog {
+ public:
+  explicit RunLog(bool echo_to_stderr);
+  spdlog::logger& logger() { return *logger_; }
+  std::string text() const { return stream_->str(); }
+  void write_to(const std::filesystem::path& file);
+
+ private:
+  std::shared_ptr<std::ostringstream> stream_;
+  std::shared_ptr<spdlog::logger> logger_;
+};
+
+class RunOutput final : public FrameObserver {
+ public:
+  RunOutput(std::filesystem::path dir, const Scene& scene, RunLog& log);
+  void on_frame(const FrameInfo& info, const Solver& solver) override;
+  const std::filesystem::path& directory() const { return dir_; }
+  std::string stats_header() const;
+  void flush_log();
+
+ private:
+  std::filesystem::path dir_;
+  const Scene& scene_;
+  RunLog& log_;
+  std::string stats_;
+  std::vector<PvdEntry> pvd_;
+  Stopwatch clock_;
+};
+
+}  // namespace bakesim

@@ -1,0 +1,330 @@
+#include "io/scene.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "core/errors.hpp"
+#include "geometry/mesh_io.hpp"
+#include "io/schema.hpp"
+
+namespace bakesim {
+
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+namespace {
+
+Vec3 vec3(const json& j) { return Vec3(j[0].get<double>(), j[1].get<double>(), j[2].get<double>()); }
+
+// Everything needed to report an error at a key path of this scene file.
+struct Ctx {
+  std::string file;
+  std::string base_dir;
+  [[noreturn]] void fail(const std::string& path, const std::string& msg) const {
+    throw InputError(file + ": " + path, msg);
+  }
+};
+
+void require_box(const Ctx& c, const std::string& path, const Vec3& lo, const Vec3& hi) {
+  for (int k = 0; k < 3; ++k)
+    if (!(lo[k] < hi[k]))
+      c.fail(path, fmt::format("min must be below max on every axis (axis {}: min {} >= max {})", "xyz"[k], lo[k], hi[k]));
+}
+
+Vec3 unit_vector(const Ctx& c, const std::string& path, const json& j) {
+  const Vec3 v = vec3(j);
+  const Real n = v.norm();
+  if (!(n > 1e-12)) c.fail(path, "must be a non-zero vector");
+  return v / n;
+}
+
+TriangleMesh load_transformed_mesh(const Ctx& c, const std::string& path, const json& s) {
+  fs::path file = s["file"].get<std::string>();
+  if (file.is_relative()) file = fs::path(c.base_dir) / file;
+  TriangleMesh mesh;
+  try {
+    mesh = load_mesh(file.lexically_normal().string());
+  } catch (const InputError& e) {
+    c.fail(path + ".file", e.what());
+  }
+  mesh.apply(s["scale"].get<double>(), vec3(s["rotation_deg"]), vec3(s["translation"]));
+  return mesh;
+}
+
+Shape build_shape(const Ctx& c, const std::string& path, const json& s) {
+  const std::string type = s["type"].get<std::string>();
+  if (type == "box") {
+    require_box(c, path, vec3(s["min"]), vec3(s["max"]));
+    return BoxShape{vec3(s["min"]), vec3(s["max"])};
+  }
+  if (type == "sphere") return SphereShape{vec3(s["center"]), s["radius"].get<double>()};
+  if (type == "cylinder")
+    return CylinderShape{vec3(s["center"]), unit_vector(c, path + ".axis", s["axis"]), s["radius"].get<double>(),
+                         s["height"].get<double>()};
+  if (type == "mesh") {
+    TriangleMesh mesh = load_transformed_mesh(c, path, s);
+    if (mesh.signed_volume() < 0) mesh.flip_orientation();
+    return std::make_shared<const MeshShape>(std::move(mesh));
+  }
+  if (type == "union") {
+    auto u = std::make_shared<ShapeUnion>();
+    for (std::size_t i = 0; i < s["shapes"].size(); ++i)
+      u->parts.push_back(build_shape(c, fmt::format("{}.shapes[{}]", path, i), s["shapes"][i]));
+    return std::shared_ptr<const ShapeUnion>(u);
+  }
+  auto d = std::make_shared<ShapeDifference>();
+  d->base = build_shape(c, path + ".base", s["base"]);
+  for (std::size_t i = 0; i < s["subtract"].size(); ++i)
+    d->subtract.push_back(build_shape(c, fmt::format("{}.subtract[{}]", path, i), s["subtract"][i]));
+  return std::shared_ptr<const ShapeDifference>(d);
+}
+
+ColliderGeometry build_collider_geometry(const Ctx& c, const std::string& path, const json& s, Real cell) {
+  const std::string type = s["type"].get<std::string>();
+  if (type == "plane") return PlaneCollider{vec3(s["point"]), unit_vector(c, path + ".normal", s["normal"])};
+  if (type == "box") {
+    require_box(c, path, vec3(s["min"]), vec3(s["max"]));
+    return BoxCollider{{vec3(s["min"]), vec3(s["max"])}};
+  }
+  if (type == "container") {
+    require_box(c, path, vec3(s["min"]), vec3(s["max"]));
+    return ContainerCollider{{vec3(s["min"]), vec3(s["max"])}, s["wall_thickness"].get<double>()};
+  }
+  auto mesh = std::make_shared<const TriangleMesh>(load_transformed_mesh(c, path, s));
+  auto grid = std::make_shared<const TriangleGrid>(*mesh, cell);
+  return MeshCollider{mesh, grid};
+}
+
+void check_unique_names(const Ctx& c, const json& list, const std::string& key) {
+  std::set<std::string> seen;
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const std::string n = list[i]["name"].get<std::string>();
+    if (!seen.insert(n).second) c.fail(fmt::format("{}[{}].name", key, i), "duplicate name '" + n + "'");
+  }
+}
+
+PiecewiseLinear build_schedule(const Ctx& c, const std::string& path, const json& j) {
+  if (j.is_number()) return PiecewiseLinear::constant(j.get<double>());
+  std::vector<std::pair<Real, Real>> pts;
+  for (std::size_t i = 0; i < j.size(); ++i) {
+    const Real t = j[i][0].get<double>(), v = j[i][1].get<double>();
+    if (t < 0) c.fail(fmt::format("{}[{}]", path, i), "schedule times must be >= 0 s");
+    if (!pts.empty() && !(t > pts.back().first))
+      c.fail(fmt::format("{}[{}]", path, i), "schedule times must increase strictly");
+    if (v < -273.15) c.fail(fmt::format("{}[{}]", path, i), "temperature must be >= -273.15 degC");
+    pts.emplace_back(t, v);
+  }
+  return PiecewiseLinear(pts);
+}
+
+std::pair<int, int> line_column(const std::string& text, std::size_t byte) {
+  int line = 1, col = 1;
+  for (std::size_t i = 0; i + 1 < byte && i < text.size(); ++i) {
+    if (text[i] == '\n') {
+      ++line;
+      col = 1;
+    } else {
+      ++col;
+    }
+  }
+  return {line, col};
+}
+
+}  // namespace
+
+Scene parse_scene(const std::string& text, const std::string& file, const std::string& base_dir) {
+  json doc;
+  try {
+    doc = json::parse(text, nullptr, true, /*ignore_comments=*/true);
+  } catch (const json::parse_error& e) {
+    const auto [line, col] = line_column(text, e.byte);
+    std::string msg = e.what();
+    // Keep nlohmann's explanation, drop its own prefix and position.
+    const auto pos = msg.find(": ", msg.find("parse error"));
+    if (pos != std::string::npos) msg = msg.substr(pos + 2);
+    throw InputError(fmt::format("{}:{}:{}", file, line, col), "JSON syntax error: " + msg);
+  }
+  if (!doc.is_object()) throw InputError(file, "a scene must be a JSON object");
+  scene_schema().validate(doc, file);
+
+  const Ctx c{file, base_dir};
+  Scene sc;
+  sc.file = file;
+  sc.name = doc["name"].get<std::string>();
+  if (sc.name.empty()) {
+    sc.name = fs::path(file).stem().string();
+    doc["name"] = sc.name;
+  }
+  sc.description = doc["description"].get<std::string>();
+  sc.solver_type = doc["solver"]["type"].get<std::string>();
+  if (sc.solver_type == "mpm")
+    c.fail("solver.type", "the MPM solver is not available in this version of bakesim yet; use \"sph\"");
+  if (!doc["solver"].contains("sph"))
+    c.fail("solver", "missing section 'sph' (required when solver.type is \"sph\"; it needs at least 'spacing')");
+
+  sc.end_time = doc["time"]["end"].get<double>();
+  sc.fps = doc["time"]["fps"].get<double>();
+  if (sc.end_time * sc.fps > 1e6) c.fail("time", "more than a million frames: lower time.fps or time.end");
+
+  const Vec3 dmin = vec3(doc["domain"]["min"]), dmax = vec3(doc["domain"]["max"]);
+  require_box(c, "domain", dmin, dmax);
+
+  sc.air_temperature = build_schedule(c, "environment.air_temperature", doc["environment"]["air_temperature"]);
+  sc.heat_transfer_coefficient = doc["environment"]["heat_transfer_coefficient"].get<double>();
+
+  // Materials, in name order (json objects iterate sorted by key).
+  sph::Setup& setup = sc.sph;
+  std::vector<std::string> material_names;
+  for (auto it = doc["materials"].begin(); it != doc["materials"].end(); ++it) {
+    const json& m = it.value();
+    sph::Material mat;
+    mat.name = it.key();
+    mat.rest_density = m["density"].get<double>();
+    mat.viscosity = m["viscosity"].get<double>();
+    mat.surface_tension = m["surface_tension"].get<double>();
+    mat.xsph = m["xsph"].get<double>();
+    mat.specific_heat = m["specific_heat"].get<double>();
+    mat.conductivity = m["conductivity"].get<double>();
+    setup.materials.push_back(mat);
+    material_names.push_back(it.key());
+  }
+
+  check_unique_names(c, doc["bodies"], "bodies");
+  check_unique_names(c, doc["colliders"], "colliders");
+  check_unique_names(c, doc["probes"], "probes");
+
+  Real max_initial_speed = 0;
+  for (std::size_t i = 0; i < doc["bodies"].size(); ++i) {
+    const json& b = doc["bodies"][i];
+    const std::string path = fmt::format("bodies[{}]", i);
+    sph::Body body;
+    body.name = b["name"].get<std::string>();
+    body.source = file + ": " + path;
+    const std::string mname = b["material"].get<std::string>();
+    const auto found = std::find(material_names.begin(), material_names.end(), mname);
+    if (found == material_names.end()) {
+      const std::string near = closest_match(mname, material_names);
+      c.fail(path + ".material", fmt::format("unknown material '{}'{}; defined materials: {}", mname,
+                                             near.empty() ? "" : "; did you mean '" + near + "'?",
+                                             fmt::join(material_names, ", ")));
+    }
+    body.material = static_cast<int>(found - material_names.begin());
+    body.shape = build_shape(c, path + ".shape", b["shape"]);
+    body.temperature = b["temperature"].get<double>();
+    body.velocity = vec3(b["velocity"]);
+    max_initial_speed = std::max(max_initial_speed, body.velocity.norm());
+    setup.bodies.push_back(std::move(body));
+  }
+
+  const json& sj = doc["solver"]["sph"];
+  sph::Settings& st = setup.settings;
+  st.spacing = sj["spacing"].get<double>();
+  st.smoothing_ratio = sj["smoothing_ratio"].get<double>();
+  st.search = sph::parse_neighbour_method(sj["neighbour_search"].get<std::string>());
+  st.clamp_negative_pressure = sj["negative_pressure"].get<std::string>() == "clamp";
+  st.wall_density_correction = sj["wall_correction"].get<bool>();
+  st.av_alpha = sj["artificial_viscosity"]["alpha"].get<double>();
+  st.av_beta = sj["artificial_viscosity"]["beta"].get<double>();
+  st.av_epsilon = sj["artificial_viscosity"]["epsilon"].get<double>();
+  st.surface_threshold = sj["surface_threshold"].get<double>();
+  st.viscous_factor = sj["viscous_factor"].get<double>();
+  st.force_factor = sj["force_factor"].get<double>();
+  st.cfl = doc["solver"]["cfl"].get<double>();
+  st.max_dt = doc["solver"]["max_dt"].get<double>();
+
+  setup.gravity = vec3(doc["gravity"]);
+  setup.domain = {dmin, dmax};
+  setup.domain_friction = doc["domain"]["friction"].get<double>();
+  setup.domain_damping = doc["domain"]["damping"].get<double>();
+
+  if (sj["speed_of_sound"].is_string()) {
+    // auto: ten times the fastest flow expected, so density varies ~1%.
+    const Real g = setup.gravity.norm();
+    const Real height = g > 0 ? std::abs((dmax - dmin).dot(setup.gravity / g)) : 0.0;
+    const Real v = std::max({std::sqrt(2.0 * g * height), max_initial_speed, 0.1});
+    st.speed_of_sound = 10.0 * v;
+    doc["solver"]["sph"]["speed_of_sound"] = st.speed_of_sound;
+  } else {
+    st.speed_of_sound = sj["speed_of_sound"].get<double>();
+  }
+
+  const Real h = st.spacing * st.smoothing_ratio;
+  for (std::size_t i = 0; i < doc["colliders"].size(); ++i) {
+    const json& cj = doc["colliders"][i];
+    const std::string path = fmt::format("colliders[{}]", i);
+    Collider col;
+    col.name = cj["name"].get<std::string>();
+    col.geometry = build_collider_geometry(c, path + ".shape", cj["shape"], h);
+    col.friction = cj["friction"].get<double>();
+    col.damping = cj["damping"].get<double>();
+    if (!cj["temperature"].is_null()) col.temperature = cj["temperature"].get<double>();
+    setup.colliders.push_back(std::move(col));
+  }
+
+  for (std::size_t i = 0; i < doc["probes"].size(); ++i) {
+    const json& pj = doc["probes"][i];
+    ProbeSpec p{pj["name"].get<std::string>(), vec3(pj["position"]), pj["quantities"].get<std::vector<std::string>>()};
+    if (!setup.domain.contains(p.position)) c.fail(fmt::format("probes[{}].position", i), "lies outside the domain");
+    sc.probes.push_back(std::move(p));
+  }
+
+  for (const json& f : doc["output"]["particles"]) {
+    (void)f;
+  }
+  const auto formats = doc["output"]["particles"].get<std::vector<std::string>>();
+  sc.output.ply = std::find(formats.begin(), formats.end(), "ply") != formats.end();
+  sc.output.vtu = std::find(formats.begin(), formats.end(), "vtu") != formats.end();
+  sc.output.every_frames = doc["output"]["every_frames"].get<int>();
+  sc.resolved = std::move(doc);
+  return sc;
+}
+
+Scene load_scene(const std::string& path) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw InputError(path, "scene file not found");
+  if (fs::is_directory(path, ec)) throw InputError(path, "is a directory, not a scene file");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path, "scene file cannot be opened for reading");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  const std::string dir = fs::path(path).parent_path().string();
+  return parse_scene(ss.str(), path, dir.empty() ? "." : dir);
+}
+
+std::unique_ptr<Solver> make_solver(const Scene& scene) { return std::make_unique<sph::SphSolver>(scene.sph); }
+
+std::string describe(const Scene& scene, Solver& solver) {
+  std::string out;
+  out += fmt::format("scene      {} ({})\n", scene.name, scene.file);
+  if (!scene.description.empty()) out += fmt::format("           {}\n", scene.description);
+  out += fmt::format("solver     {}\n", scene.solver_type);
+  const int frames = static_cast<int>(std::ceil(scene.end_time * scene.fps - 1e-9));
+  out += fmt::format("time       {} s at {} fps: {} frames\n", scene.end_time, scene.fps, frames);
+  const auto& st = scene.sph.settings;
+  out += fmt::format("spacing    {} m, support h = {} m, speed of sound {:.3g} m/s, neighbour search {}\n", st.spacing,
+                     st.spacing * st.smoothing_ratio, st.speed_of_sound, sph::to_string(st.search));
+  const auto& sph_solver = dynamic_cast<const sph::SphSolver&>(solver);
+  out += fmt::format("particles  {} in total\n", solver.particles().size());
+  for (std::size_t b = 0; b < scene.sph.bodies.size(); ++b) {
+    const auto& body = scene.sph.bodies[b];
+    out += fmt::format("  body {:<16} {:>9} particles  material {:<10} mass {:.4g} kg each, {:.1f} degC\n", "'" + body.name + "'",
+                       sph_solver.body_particle_count(b), scene.sph.materials[body.material].name,
+                       sph_solver.particle_mass(body.material), body.temperature);
+  }
+  out += fmt::format("colliders  {}\n", scene.sph.colliders.size());
+  for (const auto& c : scene.sph.colliders) out += fmt::format("  '{}' friction {} damping {}\n", c.name, c.friction, c.damping);
+  out += fmt::format("probes     {}\n", scene.probes.size());
+  const Real dt = solver.max_stable_dt();
+  out += "time step  bounds at t = 0:\n";
+  for (const auto& [name, value] : sph_solver.time_step_bounds()) out += fmt::format("  {:<10} {:.3e} s\n", name, value);
+  out += fmt::format("  active: {} -> dt = {:.3e} s (about {:.0f} steps for the whole run at this rate)\n",
+                     solver.active_dt_bound(), dt, scene.end_time / dt);
+  return out;
+}
+
+}  // namespace bakesim

@@ -1,0 +1,54 @@
+#pragma once
+// Scenes: read a JSON file, validate it against the schema (filling every
+// default), check what the schema cannot (names that refer to each other,
+// boxes with min < max, mesh files), and build the solver's setup.
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "core/solver.hpp"
+#include "physics/curves.hpp"
+#include "sph/solver.hpp"
+
+namespace bakesim {
+
+struct ProbeSpec {
+  std::string name;
+  Vec3 position;
+  std::vector<std::string> quantities;
+};
+
+struct OutputSpec {
+  bool ply = true;
+  bool vtu = true;
+  int every_frames = 1;
+};
+
+struct Scene {
+  std::string file;         // as given by the user
+  std::string name;
+  std::string description;
+  std::string solver_type;  // "sph"
+  nlohmann::json resolved;  // the document with every default filled in
+  Real end_time = 1.0;
+  Real fps = 30.0;
+  PiecewiseLinear air_temperature;
+  Real heat_transfer_coefficient = 10.0;
+  std::vector<ProbeSpec> probes;
+  OutputSpec output;
+  sph::Setup sph;
+};
+
+// Reads and validates a scene file. Throws InputError (file:line:column for
+// syntax errors, "file: key.path" for content errors).
+Scene load_scene(const std::string& path);
+// Same, from text; `file` names it in messages, `base_dir` resolves mesh paths.
+Scene parse_scene(const std::string& text, const std::string& file, const std::string& base_dir);
+
+std::unique_ptr<Solver> make_solver(const Scene& scene);
+
+// Human-readable summary of what the scene will simulate (for `validate`).
+std::string describe(const Scene& scene, Solver& solver);
+
+}  // namespace bakesim

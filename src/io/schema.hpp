@@ -1,0 +1,36 @@
+#pragma once
+// Validation of JSON documents against the subset of JSON Schema (draft-07)
+// that the scene schema uses: type, properties, required,
+// additionalProperties, default, enum, const, minimum/maximum (exclusive
+// too), minItems/maxItems, minLength, pattern, minProperties, items, oneOf,
+// local $ref, plus "unit" for messages and docs. Missing keys with a default
+// are filled in, so the validated document is the resolved scene.
+#include <nlohmann/json.hpp>
+#include <string>
+
+namespace bakesim {
+
+class SchemaValidator {
+ public:
+  explicit SchemaValidator(nlohmann::json schema);
+  // Validates `doc` in place (filling defaults). Throws InputError whose
+  // location is "FILE: key.path" and whose message says what is allowed.
+  void validate(nlohmann::json& doc, const std::string& file) const;
+  const nlohmann::json& schema() const { return schema_; }
+  // The scene reference in Markdown, generated from the schema.
+  std::string markdown_reference() const;
+
+ private:
+  const nlohmann::json& resolve(const nlohmann::json& s) const;
+  void check(nlohmann::json& value, const nlohmann::json& schema, const std::string& path,
+             const std::string& file) const;
+  nlohmann::json schema_;
+};
+
+// The scene schema compiled into the binary (schema/scene.schema.json).
+const SchemaValidator& scene_schema();
+
+// Closest candidate by edit distance, or "" when none is reasonably close.
+std::string closest_match(const std::string& word, const std::vector<std::string>& candidates);
+
+}  // namespace bakesim

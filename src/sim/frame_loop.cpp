@@ -1,0 +1,52 @@
+#include "sim/frame_loop.hpp"
+
+#include <cmath>
+
+#include "core/errors.hpp"
+
+namespace bakesim {
+
+RunSummary run_frames(Solver& solver, const FrameLoopConfig& cfg, FrameObserver& observer, ProgressBar& progress,
+                      spdlog::logger& log) {
+  if (!(cfg.fps > 0)) throw InputError("time.fps", "must be > 0");
+  const int frames = std::max(1, static_cast<int>(std::ceil(cfg.end_time * cfg.fps - 1e-9)));
+  const std::size_t n = solver.particles().size();
+  RunSummary summary;
+  summary.particles = n;
+  Stopwatch wall;
+  FrameInfo info;
+  observer.on_frame(info, solver);
+  std::string bound;
+  for (int f = 1; f <= frames; ++f) {
+    const Real target = std::min(cfg.end_time, f / cfg.fps);
+    while (solver.time() < target - 1e-12) {
+      Real dt = solver.max_stable_dt();
+      if (solver.active_dt_bound() != bound) {
+        bound = solver.active_dt_bound();
+        log.info("t = {:.6f} s: time step {:.3e} s limited by {}", solver.time(), dt, bound);
+      }
+      // Land exactly on the frame time without leaving a tiny last step.
+      const Real remaining = target - solver.time();
+      if (dt >= remaining) dt = remaining;
+      else if (dt > 0.5 * remaining) dt = 0.5 * remaining;
+      solver.step(dt);
+      info.last_dt = dt;
+      ++info.steps;
+      progress.update({f - 1, frames, solver.time(), cfg.end_time, info.steps});
+    }
+    info.frame = f;
+    info.time = solver.time();
+    if (f % std::max(1, cfg.write_every) == 0 || f == frames) observer.on_frame(info, solver);
+    progress.update({f, frames, solver.time(), cfg.end_time, info.steps}, f == frames);
+    log.debug("frame {} t = {:.6f} s steps {} dt {:.3e}", f, info.time, info.steps, info.last_dt);
+  }
+  progress.finish();
+  summary.steps = info.steps;
+  summary.frames = frames;
+  summary.wall_seconds = wall.seconds();
+  summary.particle_steps_per_second =
+      summary.wall_seconds > 0 ? double(summary.steps) * double(n) / summary.wall_seconds : 0.0;
+  return summary;
+}
+
+}  // namespace bakesim

@@ -1,0 +1,44 @@
+#pragma once
+// The frame loop: steps a Solver with its stable time step up to each frame
+// time, hands every frame to an observer (writers, stats, probes), reports
+// progress, and logs which time-step bound is active.
+#include <memory>
+
+#include <spdlog/logger.h>
+
+#include "core/progress.hpp"
+#include "core/solver.hpp"
+
+namespace bakesim {
+
+struct FrameInfo {
+  int frame = 0;      // 0 is the initial state
+  Real time = 0;      // simulated time, s
+  long steps = 0;     // cumulative
+  Real last_dt = 0;   // most recent time step, s
+};
+
+class FrameObserver {
+ public:
+  virtual ~FrameObserver() = default;
+  virtual void on_frame(const FrameInfo& info, const Solver& solver) = 0;
+};
+
+struct FrameLoopConfig {
+  Real end_time = 1.0;
+  Real fps = 30.0;
+  int write_every = 1;  // hand every n-th frame to the observer (first and last always)
+};
+
+struct RunSummary {
+  long steps = 0;
+  int frames = 0;
+  double wall_seconds = 0;
+  double particle_steps_per_second = 0;
+  std::size_t particles = 0;
+};
+
+RunSummary run_frames(Solver& solver, const FrameLoopConfig& cfg, FrameObserver& observer, ProgressBar& progress,
+                      spdlog::logger& log);
+
+}  // namespace bakesim

@@ -1,0 +1,89 @@
+#pragma once
+// SPH kernels. Convention of the thesis: h is the support radius and
+// q = 2r/h ∈ [0, 2] (Eq 3.9–3.10). The printed Eq 3.9 omits that the 3D
+// normalisation for support h is 8/(π h³) (= 1/(π ħ³) with ħ = h/2); Eq
+// 3.11–3.12 omit the chain-rule factors 2/h and 4/h². See docs/physics.md.
+#include <cmath>
+#include <vector>
+
+#include "core/types.hpp"
+
+namespace bakesim::sph {
+
+class CubicSpline {
+ public:
+  explicit CubicSpline(Real h) { set_support(h); }
+  void set_support(Real h) {
+    h_ = h;
+    inv_h_ = 1.0 / h;
+    sigma_ = 8.0 / (kPi * h * h * h);
+  }
+  Real support() const { return h_; }
+
+  // Eq 3.9
+  Real w(Real r) const {
+    const Real q = 2.0 * r * inv_h_;
+    if (q < 1.0) return sigma_ * (1.0 - 1.5 * q * q + 0.75 * q * q * q);
+    if (q < 2.0) {
+      const Real a = 2.0 - q;
+      return sigma_ * 0.25 * a * a * a;
+    }
+    return 0.0;
+  }
+  // dW/dr (Eq 3.11 with the factor σ·2/h); the gradient is dw_dr(r) · r̂.
+  Real dw_dr(Real r) const {
+    const Real q = 2.0 * r * inv_h_;
+    const Real f = sigma_ * 2.0 * inv_h_;
+    if (q < 1.0) return f * (-3.0 * q + 2.25 * q * q);
+    if (q < 2.0) {
+      const Real a = 2.0 - q;
+      return f * (-0.75 * a * a);
+    }
+    return 0.0;
+  }
+  // ∇_i W(x_i − x_j) for rij = x_i − x_j with |rij| = r > 0.
+  Vec3 gradient(const Vec3& rij, Real r) const { return (r > 0 ? dw_dr(r) / r : 0.0) * rij; }
+  // The 3D Laplacian W'' + 2W'/r (Eq 3.12 is W'' alone, without its 4/h² and
+  // with a typo in the second branch).
+  Real laplacian(Real r) const {
+    const Real q = 2.0 * r * inv_h_;
+    const Real f = sigma_ * 4.0 * inv_h_ * inv_h_;
+    if (q < 1.0) return f * (-9.0 + 9.0 * q);
+    if (q < 2.0) {
+      const Real a = 2.0 - q;
+      return f * (1.5 * a - 1.5 * a * a / q);
+    }
+    return 0.0;
+  }
+
+ private:
+  Real h_ = 1, inv_h_ = 1, sigma_ = 1;
+};
+
+// Müller et al. viscosity kernel Laplacian 45/(π h⁶)(h − r) (Eq 3.8), support h.
+class ViscosityLaplacian {
+ public:
+  explicit ViscosityLaplacian(Real h) : h_(h), c_(45.0 / (kPi * std::pow(h, 6))) {}
+  Real operator()(Real r) const { return r < h_ ? c_ * (h_ - r) : 0.0; }
+
+ private:
+  Real h_, c_;
+};
+
+// Integrals of the cubic spline over a half-space whose boundary is at
+// distance d from the evaluation point (used for the wall density correction):
+//   gamma(d) = ∫_{z > d} W dV,   area(d) = ∫_{z = d} W dA = −dγ/dd.
+// Tabulated once by quadrature; d < 0 (inside the wall) is clamped to 0.
+class HalfSpaceIntegrals {
+ public:
+  explicit HalfSpaceIntegrals(Real h, int samples = 512);
+  Real gamma(Real d) const { return lookup(gamma_, d); }
+  Real area(Real d) const { return lookup(area_, d); }
+
+ private:
+  Real lookup(const std::vector<Real>& t, Real d) const;
+  Real h_;
+  std::vector<Real> gamma_, area_;
+};
+
+}  // namespace bakesim::sph

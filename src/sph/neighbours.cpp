@@ -1,0 +1,192 @@
+#include "sph/neighbours.hpp"
+
+#include <nanoflann.hpp>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <numeric>
+
+#include "core/errors.hpp"
+#include "core/parallel.hpp"
+
+namespace bakesim::sph {
+
+NeighbourMethod parse_neighbour_method(const std::string& s) {
+  if (s == "grid") return NeighbourMethod::grid;
+  if (s == "kdtree") return NeighbourMethod::kdtree;
+  throw Error("unknown neighbour search method '" + s + "'");
+}
+
+std::string to_string(NeighbourMethod m) { return m == NeighbourMethod::grid ? "grid" : "kdtree"; }
+
+std::size_t NeighbourLists::max_count() const {
+  return count_.empty() ? 0 : *std::max_element(count_.begin(), count_.end());
+}
+
+double NeighbourLists::mean_count() const {
+  if (count_.empty()) return 0.0;
+  return double(std::accumulate(count_.begin(), count_.end(), std::uint64_t(0))) / double(count_.size());
+}
+
+void CellGrid::configure(const Aabb& box, Real cell_size) {
+  cell_ = cell_size;
+  inv_cell_ = 1.0 / cell_size;
+  // One spare cell on each side for particles slightly outside the domain.
+  box_.min = box.min - Vec3::Constant(cell_size);
+  box_.max = box.max + Vec3::Constant(cell_size);
+  const Vec3 ext = box_.extent();
+  nx_ = std::max(1, int(std::ceil(ext.x() * inv_cell_)));
+  ny_ = std::max(1, int(std::ceil(ext.y() * inv_cell_)));
+  nz_ = std::max(1, int(std::ceil(ext.z() * inv_cell_)));
+  const double cells = double(nx_) * ny_ * nz_;
+  if (cells > 4e8) throw Error("neighbour grid would need " + std::to_string(cells) + " cells: domain too large for the smoothing length");
+  cell_start_.assign(std::size_t(nx_) * ny_ * nz_ + 1, 0);
+}
+
+void CellGrid::cell_coords(const Vec3& p, int& cx, int& cy, int& cz) const {
+  auto c = [](Real v, int n) {
+    if (!(v >= 0)) return 0;  // also catches NaN
+    return std::min(n - 1, int(v));
+  };
+  cx = c((p.x() - box_.min.x()) * inv_cell_, nx_);
+  cy = c((p.y() - box_.min.y()) * inv_cell_, ny_);
+  cz = c((p.z() - box_.min.z()) * inv_cell_, nz_);
+}
+
+std::int64_t CellGrid::cell_of(const Vec3& p) const {
+  int cx, cy, cz;
+  cell_coords(p, cx, cy, cz);
+  return std::int64_t(cx) + std::int64_t(nx_) * (std::int64_t(cy) + std::int64_t(ny_) * cz);
+}
+
+void CellGrid::sort(const std::vector<Vec3>& x, std::vector<std::uint32_t>& order) {
+  const std::size_t n = x.size();
+  cell_index_.resize(n);
+  parallel_for(n, [&](std::size_t i) { cell_index_[i] = static_cast<std::uint32_t>(cell_of(x[i])); }, 4096);
+  std::fill(cell_start_.begin(), cell_start_.end(), 0u);
+  for (std::size_t i = 0; i < n; ++i) ++cell_start_[cell_index_[i] + 1];
+  for (std::size_t c = 1; c < cell_start_.size(); ++c) cell_start_[c] += cell_start_[c - 1];
+  order.resize(n);
+  // Stable placement keeps the previous order inside each cell: deterministic.
+  std::vector<std::uint32_t> fill(cell_start_.begin(), cell_start_.end() - 1);
+  for (std::size_t i = 0; i < n; ++i) order[fill[cell_index_[i]]++] = static_cast<std::uint32_t>(i);
+}
+
+NeighbourSearch::NeighbourSearch(NeighbourMethod method, const Aabb& domain, Real support)
+    : method_(method), h_(support) {
+  grid_.configure(domain, support);
+}
+
+void NeighbourSearch::sort_order(const std::vector<Vec3>& x, std::vector<std::uint32_t>& order) {
+  grid_.sort(x, order);
+}
+
+template <class Query>
+void NeighbourSearch::fill(std::size_t n, NeighbourLists& lists, Query&& query) {
+  lists.count_.assign(n, 0);
+  for (;;) {
+    lists.ids_.resize(n * lists.stride_);
+    std::atomic<std::size_t> overflow{0};
+    const std::size_t stride = lists.stride_;
+    parallel_blocks(n, [&](std::size_t b, std::size_t e) {
+      std::size_t local_max = 0;
+      for (std::size_t i = b; i < e; ++i) {
+        std::uint32_t* out = lists.ids_.data() + i * stride;
+        std::size_t c = 0;
+        query(i, [&](std::uint32_t j) {
+          if (c < stride) out[c] = j;
+          ++c;
+        });
+        lists.count_[i] = static_cast<std::uint32_t>(std::min(c, stride));
+        local_max = std::max(local_max, c);
+      }
+      std::size_t cur = overflow.load();
+      while (local_max > stride && local_max > cur && !overflow.compare_exchange_weak(cur, local_max)) {
+      }
+    });
+    if (overflow.load() == 0) return;
+    lists.stride_ = overflow.load() + overflow.load() / 4 + 8;  // rare: grow and redo
+  }
+}
+
+namespace {
+struct PointCloud {
+  const std::vector<Vec3>& x;
+  std::size_t kdtree_get_point_count() const { return x.size(); }
+  Real kdtree_get_pt(std::size_t i, std::size_t d) const { return x[i][int(d)]; }
+  template <class B>
+  bool kdtree_get_bbox(B&) const { return false; }
+};
+using KdTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<Real, PointCloud>, PointCloud, 3,
+                                                   std::uint32_t>;
+
+// Result set that forwards each hit to a callback instead of storing it.
+template <class Fn>
+struct ForwardingResultSet {
+  Real radius2;
+  std::uint32_t self;
+  Fn& fn;
+  std::size_t found = 0;
+  void init() {}
+  void clear() {}
+  std::size_t size() const { return found; }
+  bool full() const { return true; }
+  bool addPoint(Real dist, std::uint32_t index) {
+    if (dist < radius2 && index != self) {
+      fn(index);
+      ++found;
+    }
+    return true;
+  }
+  Real worstDist() const { return radius2; }
+};
+}  // namespace
+
+void NeighbourSearch::find(const std::vector<Vec3>& x, NeighbourLists& lists) {
+  const Real h2 = h_ * h_;
+  const std::size_t n = x.size();
+  if (method_ == NeighbourMethod::grid) {
+    fill(n, lists, [&](std::size_t i, auto&& emit) {
+      const Vec3 xi = x[i];
+      grid_.for_each_nearby(xi, [&](std::uint32_t j) {
+        if (j != i && (x[j] - xi).squaredNorm() < h2) emit(j);
+      });
+    });
+  } else {
+    PointCloud cloud{x};
+    KdTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+    tree.buildIndex();
+    fill(n, lists, [&](std::size_t i, auto&& emit) {
+      ForwardingResultSet<std::remove_reference_t<decltype(emit)>> rs{h2, static_cast<std::uint32_t>(i), emit};
+      tree.findNeighbors(rs, x[i].data(), nanoflann::SearchParams(32, 0, false));
+    });
+    // Sort each list so the summation order matches the grid search's.
+    parallel_for(n, [&](std::size_t i) {
+      std::sort(lists.ids_.data() + i * lists.stride_, lists.ids_.data() + i * lists.stride_ + lists.count_[i]);
+    });
+  }
+}
+
+NeighbourLists brute_force_neighbours(const std::vector<Vec3>& x, Real support) {
+  std::vector<std::vector<std::uint32_t>> all(x.size());
+  for (std::size_t i = 0; i < x.size(); ++i)
+    for (std::size_t j = 0; j < x.size(); ++j)
+      if (i != j && (x[i] - x[j]).squaredNorm() < support * support) all[i].push_back(std::uint32_t(j));
+  return NeighbourLists::from_lists(all);
+}
+
+NeighbourLists NeighbourLists::from_lists(const std::vector<std::vector<std::uint32_t>>& lists) {
+  NeighbourLists out;
+  out.stride_ = 1;
+  for (const auto& l : lists) out.stride_ = std::max(out.stride_, l.size());
+  out.count_.resize(lists.size());
+  out.ids_.assign(lists.size() * out.stride_, 0);
+  for (std::size_t i = 0; i < lists.size(); ++i) {
+    out.count_[i] = static_cast<std::uint32_t>(lists[i].size());
+    std::copy(lists[i].begin(), lists[i].end(), out.ids_.begin() + i * out.stride_);
+  }
+  return out;
+}
+
+}  // namespace bakesim::sph

@@ -1,0 +1,96 @@
+#pragma once
+// Neighbour search (thesis 3.1.2). Two methods behind one result type:
+//  - a uniform grid with cell size h; particles are sorted by cell (counting
+//    sort), so each 3×3×3 block is nine contiguous runs of memory;
+//  - a kd-tree (nanoflann).
+// Lists hold, for each particle, the indices of the other particles closer
+// than h (self excluded), in a fixed stride that grows when needed.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/types.hpp"
+
+namespace bakesim::sph {
+
+enum class NeighbourMethod { grid, kdtree };
+NeighbourMethod parse_neighbour_method(const std::string& s);
+std::string to_string(NeighbourMethod m);
+
+class NeighbourLists {
+ public:
+  std::uint32_t count(std::size_t i) const { return count_[i]; }
+  const std::uint32_t* begin(std::size_t i) const { return ids_.data() + i * stride_; }
+  const std::uint32_t* end(std::size_t i) const { return begin(i) + count_[i]; }
+  std::size_t size() const { return count_.size(); }
+  std::size_t stride() const { return stride_; }
+  std::size_t max_count() const;
+  double mean_count() const;
+  static NeighbourLists from_lists(const std::vector<std::vector<std::uint32_t>>& lists);
+
+ private:
+  friend class NeighbourSearch;
+  std::vector<std::uint32_t> ids_;
+  std::vector<std::uint32_t> count_;
+  std::size_t stride_ = 64;
+};
+
+// Cell grid over a fixed box; particles outside are clamped to border cells.
+class CellGrid {
+ public:
+  void configure(const Aabb& box, Real cell_size);
+  // Stable counting sort by cell: fills `order` (new[i] = old[order[i]]) and
+  // the cell ranges valid once positions are permuted by `order`.
+  void sort(const std::vector<Vec3>& x, std::vector<std::uint32_t>& order);
+  std::int64_t cell_of(const Vec3& p) const;
+  void cell_coords(const Vec3& p, int& cx, int& cy, int& cz) const;
+  // Calls fn(j) for every particle in the 3×3×3 cells around p (after sort()).
+  template <class Fn>
+  void for_each_nearby(const Vec3& p, Fn&& fn) const;
+  Real cell_size() const { return cell_; }
+
+ private:
+  Aabb box_;
+  Real cell_ = 1, inv_cell_ = 1;
+  int nx_ = 1, ny_ = 1, nz_ = 1;
+  std::vector<std::uint32_t> cell_start_;
+  std::vector<std::uint32_t> cell_index_;
+};
+
+class NeighbourSearch {
+ public:
+  NeighbourSearch(NeighbourMethod method, const Aabb& domain, Real support);
+  NeighbourMethod method() const { return method_; }
+  // Computes the order that sorts particles by cell (both methods use it for
+  // memory locality). Call, permute the particles, then call find().
+  void sort_order(const std::vector<Vec3>& x, std::vector<std::uint32_t>& order);
+  // Fills lists for positions already permuted by the last sort_order().
+  void find(const std::vector<Vec3>& x, NeighbourLists& lists);
+  const CellGrid& grid() const { return grid_; }
+  Real support() const { return h_; }
+
+ private:
+  template <class Query>
+  void fill(std::size_t n, NeighbourLists& lists, Query&& query);
+  NeighbourMethod method_;
+  Real h_;
+  CellGrid grid_;
+};
+
+// Reference O(N²) search, for tests.
+NeighbourLists brute_force_neighbours(const std::vector<Vec3>& x, Real support);
+
+template <class Fn>
+void CellGrid::for_each_nearby(const Vec3& p, Fn&& fn) const {
+  int cx, cy, cz;
+  cell_coords(p, cx, cy, cz);
+  const int x0 = std::max(cx - 1, 0), x1 = std::min(cx + 1, nx_ - 1);
+  for (int z = std::max(cz - 1, 0); z <= std::min(cz + 1, nz_ - 1); ++z)
+    for (int y = std::max(cy - 1, 0); y <= std::min(cy + 1, ny_ - 1); ++y) {
+      const std::size_t row = std::size_t(nx_) * (std::size_t(y) + std::size_t(ny_) * z);
+      const std::uint32_t b = cell_start_[row + x0], e = cell_start_[row + x1 + 1];
+      for (std::uint32_t j = b; j < e; ++j) fn(j);
+    }
+}
+
+}  // namespace bakesim::sph

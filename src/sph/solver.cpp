@@ -1,0 +1,426 @@
+#include "sph/solver.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <limits>
+
+#include "core/errors.hpp"
+#include "core/parallel.hpp"
+
+namespace bakesim::sph {
+namespace {
+
+// Sum of W over an infinite cubic lattice of spacing s around a lattice point
+// (self included); used to calibrate particle masses so that a particle with
+// a full neighbourhood starts at exactly its rest density.
+Real lattice_kernel_sum(const CubicSpline& k, Real s) {
+  const int n = static_cast<int>(std::ceil(k.support() / s)) + 1;
+  Real sum = 0;
+  for (int i = -n; i <= n; ++i)
+    for (int j = -n; j <= n; ++j)
+      for (int l = -n; l <= n; ++l) sum += k.w(s * std::sqrt(Real(i * i + j * j + l * l)));
+  return sum;
+}
+
+bool is_mesh(const Collider& c) { return std::holds_alternative<MeshCollider>(c.geometry); }
+
+}  // namespace
+
+SphSolver::SphSolver(Setup setup)
+    : setup_(std::move(setup)),
+      h_(setup_.settings.smoothing_ratio * setup_.settings.spacing),
+      contact_distance_(0.5 * setup_.settings.spacing),
+      kernel_(h_),
+      visc_lap_(h_),
+      half_space_(h_),
+      search_(setup_.settings.search, setup_.domain, h_),
+      x_(particles_.add_vector("position", "m")),
+      v_(particles_.add_vector("velocity", "m/s")),
+      a_(particles_.add_vector("acceleration", "m/s^2", false)),
+      x_prev_(particles_.add_vector("previous_position", "m", false)),
+      dv_(particles_.add_vector("xsph_correction", "m/s", false)),
+      rho_(particles_.add_scalar("density", "kg/m^3")),
+      p_(particles_.add_scalar("pressure", "Pa")),
+      m_(particles_.add_scalar("mass", "kg")),
+      temperature_(particles_.add_scalar("temperature", "degC")),
+      mu_(particles_.add_scalar("viscosity", "Pa*s")),
+      eps_(particles_.add_scalar("xsph_epsilon", "", false)),
+      material_(particles_.add_int("material_id")),
+      body_(particles_.add_int("body_id")),
+      id_(particles_.add_int("id")),
+      ncount_(particles_.add_int("neighbours")) {
+  const Settings& s = setup_.settings;
+  if (setup_.materials.empty()) throw InputError("materials", "no materials defined");
+  const Real lattice_sum = lattice_kernel_sum(kernel_, s.spacing);
+  for (const Material& m : setup_.materials) {
+    tait_b_.push_back(m.rest_density * s.speed_of_sound * s.speed_of_sound / s.gamma);
+    mass_.push_back(m.rest_density / lattice_sum);
+  }
+  // Domain walls come first, then analytic colliders; meshes are separate.
+  walls_.push_back(Collider{"domain", InsideBoxCollider{setup_.domain}, setup_.domain_friction,
+                            setup_.domain_damping, std::nullopt});
+  for (const Collider& c : setup_.colliders) (is_mesh(c) ? meshes_ : walls_).push_back(c);
+
+  t_kick_ = timers_.add("kick");
+  t_drift_ = timers_.add("drift");
+  t_collide_ = timers_.add("collide");
+  t_neigh_ = timers_.add("neighbours");
+  t_density_ = timers_.add("density");
+  t_pressure_ = timers_.add("pressure");
+  t_forces_ = timers_.add("forces");
+  t_xsph_ = timers_.add("xsph");
+  t_check_ = timers_.add("check");
+
+  seed_particles();
+  refresh();
+}
+
+Real SphSolver::particle_mass(int material) const { return mass_.at(material); }
+
+void SphSolver::seed_particles() {
+  const Real s = setup_.settings.spacing;
+  std::vector<std::vector<Vec3>> points;
+  std::size_t total = 0;
+  for (const Body& b : setup_.bodies) {
+    if (b.material < 0 || b.material >= int(setup_.materials.size()))
+      throw InputError(b.source + ".material", "unknown material");
+    points.push_back(sample_lattice(b.shape, s));
+    if (points.back().empty())
+      throw InputError(b.source, fmt::format("body '{}' contains no particles at spacing {} m: make the shape "
+                                             "larger or the spacing smaller",
+                                             b.name, s));
+    for (const Vec3& p : points.back())
+      if (!setup_.domain.contains(p))
+        throw InputError(b.source, fmt::format("body '{}' reaches outside the domain (particle at [{:.4g}, {:.4g}, {:.4g}])",
+                                               b.name, p.x(), p.y(), p.z()));
+    total += points.back().size();
+  }
+  if (total > std::size_t(std::numeric_limits<std::int32_t>::max()))
+    throw InputError("solver.sph.spacing", "too many particles");
+  particles_.resize(total);
+  std::size_t k = 0;
+  for (std::size_t bi = 0; bi < setup_.bodies.size(); ++bi) {
+    const Body& b = setup_.bodies[bi];
+    const Material& mat = setup_.materials[b.material];
+    body_counts_.push_back(points[bi].size());
+    for (const Vec3& p : points[bi]) {
+      x_[k] = p;
+      x_prev_[k] = p;
+      v_[k] = b.velocity;
+      m_[k] = mass_[b.material];
+      rho_[k] = mat.rest_density;
+      temperature_[k] = b.temperature;
+      mu_[k] = mat.viscosity;
+      eps_[k] = std::clamp(mat.xsph, 0.0, 1.0);
+      material_[k] = b.material;
+      body_[k] = static_cast<std::int32_t>(bi);
+      id_[k] = static_cast<std::int32_t>(k);
+      ++k;
+    }
+  }
+}
+
+void SphSolver::refresh() {
+  phase_neighbours();
+  phase_density();
+  phase_pressure();
+  phase_forces();
+}
+
+// ---- phases ------------------------------------------------------------------
+
+void SphSolver::phase_neighbours() {
+  ScopedPhase t(timers_, t_neigh_);
+  search_.sort_order(x_, order_);
+  particles_.permute(order_);
+  search_.find(x_, lists_);
+  parallel_for(x_.size(), [&](std::size_t i) { ncount_[i] = static_cast<std::int32_t>(lists_.count(i)); }, 4096);
+}
+
+// Eq 3.13, plus the mass of a wall half-space at rest density for particles
+// near analytic walls (see docs/physics.md, "wall density correction").
+void SphSolver::phase_density() {
+  ScopedPhase t(timers_, t_density_);
+  const bool wall_corr = setup_.settings.wall_density_correction;
+  const Real w0 = kernel_.w(0.0);
+  const Vec3* x = x_.data();
+  const Real* m = m_.data();
+  parallel_for(x_.size(), [&](std::size_t i) {
+    const Vec3 xi = x[i];
+    Real rho = m[i] * w0;
+    for (const std::uint32_t* it = lists_.begin(i); it != lists_.end(i); ++it) {
+      const std::uint32_t j = *it;
+      rho += m[j] * kernel_.w((xi - x[j]).norm());
+    }
+    if (wall_corr) {
+      const Real rho0 = setup_.materials[material_[i]].rest_density;
+      for (const Collider& c : walls_)
+        for_each_wall(c.geometry, xi, h_, [&](const WallContact& w) { rho += rho0 * half_space_.gamma(w.distance); });
+    }
+    rho_[i] = rho;
+  });
+}
+
+// Eq 3.17 (Tait, γ = 7).
+void SphSolver::phase_pressure() {
+  ScopedPhase t(timers_, t_pressure_);
+  const Real gamma = setup_.settings.gamma;
+  const bool clamp = setup_.settings.clamp_negative_pressure;
+  parallel_for(x_.size(), [&](std::size_t i) {
+    const int mat = material_[i];
+    Real p = tait_b_[mat] * (std::pow(rho_[i] / setup_.materials[mat].rest_density, gamma) - 1.0);
+    if (clamp && p < 0) p = 0;
+    p_[i] = p;
+  }, 1024);
+}
+
+void SphSolver::phase_forces() {
+  ScopedPhase t(timers_, t_forces_);
+  const Settings& s = setup_.settings;
+  const Vec3* x = x_.data();
+  const Vec3* v = v_.data();
+  const Real* m = m_.data();
+  const Real* rho = rho_.data();
+  const Real* p = p_.data();
+  const Real* mu = mu_.data();
+  const Real c = s.speed_of_sound;
+  const Real h = h_;
+  const Real av_eps_h2 = s.av_epsilon * h * h;
+  const bool artificial = s.av_alpha != 0.0 || s.av_beta != 0.0;
+  bool any_tension = false;
+  for (const Material& mat : setup_.materials) any_tension |= mat.surface_tension != 0.0;
+  const Vec3 g = setup_.gravity;
+  const bool wall_corr = s.wall_density_correction;
+
+  parallel_for(x_.size(), [&](std::size_t i) {
+    const Vec3 xi = x[i], vi = v[i];
+    const Real rhoi = rho[i], pi_rho2 = p[i] / (rhoi * rhoi), mui = mu[i];
+    Vec3 acc_p = Vec3::Zero(), acc_v = Vec3::Zero(), acc_av = Vec3::Zero(), normal = Vec3::Zero();
+    Real lap_c = 0.0;
+    for (const std::uint32_t* it = lists_.begin(i); it != lists_.end(i); ++it) {
+      const std::uint32_t j = *it;
+      const Vec3 xij = xi - x[j];
+      const Real r = xij.norm();
+      if (r <= 0) continue;
+      const Vec3 grad = kernel_.gradient(xij, r);
+      const Real rhoj = rho[j];
+      // Eq 3.18: symmetric pressure gradient.
+      acc_p -= m[j] * (pi_rho2 + p[j] / (rhoj * rhoj)) * grad;
+      // Eq 3.19: pairwise-averaged viscosity with the viscosity-kernel Laplacian.
+      const Vec3 vij = vi - v[j];
+      acc_v -= (0.5 * (mui + mu[j]) * m[j] / rhoj * visc_lap_(r)) * vij;
+      // Eq 3.35–3.41: artificial viscosity, only for approaching pairs.
+      if (artificial) {
+        const Real vx = vij.dot(xij);
+        if (vx < 0) {
+          const Real mu_ij = h * vx / (r * r + av_eps_h2);
+          const Real pi_ij = (-s.av_alpha * c * mu_ij + s.av_beta * mu_ij * mu_ij) / (0.5 * (rhoi + rhoj));
+          acc_av -= m[j] * pi_ij * grad;
+        }
+      }
+      if (any_tension) {
+        // Eq 3.28–3.29: colour field gradient and Laplacian.
+        const Real vol = m[j] / rhoj;
+        normal += vol * grad;
+        lap_c += vol * kernel_.laplacian(r);
+      }
+    }
+    Vec3 acc = acc_p + acc_v / rhoi + acc_av + g;
+    if (any_tension) {
+      const Real sigma = setup_.materials[material_[i]].surface_tension;
+      const Real nn = normal.norm();
+      // Eq 3.30, only where |N| is large enough for a stable direction.
+      if (sigma != 0.0 && nn * h > s.surface_threshold) acc += (-sigma / rhoi * lap_c / nn) * normal;
+    }
+    if (wall_corr && p[i] > 0) {
+      // Pressure of the wall half-space mirrored at the particle's pressure.
+      const Real rho0 = setup_.materials[material_[i]].rest_density;
+      const Real coef = p[i] * (1.0 / (rhoi * rhoi) + 1.0 / (rho0 * rho0)) * rho0;
+      for (const Collider& col : walls_)
+        for_each_wall(col.geometry, xi, h, [&](const WallContact& w) { acc += coef * half_space_.area(w.distance) * w.normal; });
+    }
+    a_[i] = acc;
+  });
+}
+
+void SphSolver::phase_kick(Real dt) {
+  ScopedPhase t(timers_, t_kick_);
+  const Real half = 0.5 * dt;
+  parallel_for(x_.size(), [&](std::size_t i) { v_[i] += half * a_[i]; }, 4096);
+}
+
+void SphSolver::phase_drift(Real dt) {
+  ScopedPhase t(timers_, t_drift_);
+  parallel_for(x_.size(), [&](std::size_t i) {
+    x_prev_[i] = x_[i];
+    x_[i] += dt * v_[i];
+  }, 4096);
+}
+
+// Eq 3.31–3.33: v_new = β_c v_tangent − α_c v_normal with β_c = 1 − friction
+// and α_c = 1 − damping. Analytic walls push the particle back to the contact
+// distance; meshes revert it to its previous position (thesis 3.1.9).
+void SphSolver::phase_collide() {
+  ScopedPhase t(timers_, t_collide_);
+  const Real rc = contact_distance_;
+  auto respond = [](Vec3& v, const Vec3& n, Real friction, Real damping) {
+    const Real vn = v.dot(n);
+    if (vn >= 0) return;
+    const Vec3 normal = vn * n;
+    const Vec3 tangent = v - normal;
+    v = (1.0 - friction) * tangent - (1.0 - damping) * normal;
+  };
+  parallel_for(x_.size(), [&](std::size_t i) {
+    Vec3& xi = x_[i];
+    Vec3& vi = v_[i];
+    for (const Collider& c : walls_) {
+      for_each_wall(c.geometry, xi, rc, [&](const WallContact& w) {
+        xi += (rc - w.distance) * w.normal;
+        respond(vi, w.normal, c.friction, c.damping);
+      });
+    }
+    for (const Collider& c : meshes_) {
+      const SegmentHit hit = mesh_segment_hits(std::get<MeshCollider>(c.geometry), x_prev_[i], xi, rc);
+      if (hit.hits > 0) {
+        const Real len = hit.normal_sum.norm();
+        const Vec3 n = len > 0 ? Vec3(hit.normal_sum / len) : Vec3::UnitY();
+        xi = x_prev_[i];
+        respond(vi, n, c.friction, c.damping);
+      }
+    }
+  }, 1024);
+}
+
+// Eq 3.34 with the pairwise mean of ε (keeps the correction momentum-conserving).
+void SphSolver::phase_xsph() {
+  ScopedPhase t(timers_, t_xsph_);
+  bool any = false;
+  for (const Material& m : setup_.materials) any |= m.xsph > 0;
+  if (!any) return;
+  const Vec3* x = x_.data();
+  const Vec3* v = v_.data();
+  parallel_for(x_.size(), [&](std::size_t i) {
+    Vec3 corr = Vec3::Zero();
+    const Vec3 xi = x[i], vi = v[i];
+    for (const std::uint32_t* it = lists_.begin(i); it != lists_.end(i); ++it) {
+      const std::uint32_t j = *it;
+      const Real w = kernel_.w((xi - x[j]).norm());
+      corr += (0.5 * (eps_[i] + eps_[j]) * 2.0 * m_[j] / (rho_[i] + rho_[j]) * w) * (v[j] - vi);
+    }
+    dv_[i] = corr;
+  });
+  parallel_for(x_.size(), [&](std::size_t i) { v_[i] += dv_[i]; }, 4096);
+}
+
+void SphSolver::check_finite() {
+  ScopedPhase t(timers_, t_check_);
+  const std::size_t n = x_.size();
+  const std::size_t bad = deterministic_reduce(
+      n, n,
+      [&](std::size_t b, std::size_t e) {
+        for (std::size_t i = b; i < e; ++i)
+          if (!x_[i].allFinite() || !v_[i].allFinite() || !std::isfinite(rho_[i]) || !std::isfinite(p_[i])) return i;
+        return n;
+      },
+      [](std::size_t a, std::size_t b) { return std::min(a, b); });
+  if (bad == n) return;
+  std::string quantity = !x_[bad].allFinite() ? "position" : !v_[bad].allFinite() ? "velocity"
+                         : !std::isfinite(rho_[bad]) ? "density" : "pressure";
+  throw SimulationError(fmt::format(
+      "SPH step {} (t = {:.6g} s): particle {} of body '{}' has a non-finite {} "
+      "(density {:.6g} kg/m^3, pressure {:.6g} Pa, {} neighbours)",
+      steps_, time_, id_[bad], setup_.bodies[body_[bad]].name, quantity, rho_[bad], p_[bad], lists_.count(bad)));
+}
+
+// ---- driver ------------------------------------------------------------------
+
+std::vector<std::pair<std::string, Real>> SphSolver::time_step_bounds() const {
+  const Settings& s = setup_.settings;
+  const Real hs = 0.5 * h_;  // classical smoothing length ħ
+  struct Extremes {
+    Real v2 = 0, a2 = 0, nu = 0;
+  };
+  const Extremes e = deterministic_reduce(
+      x_.size(), Extremes{},
+      [&](std::size_t b, std::size_t end) {
+        Extremes r;
+        for (std::size_t i = b; i < end; ++i) {
+          r.v2 = std::max(r.v2, v_[i].squaredNorm());
+          r.a2 = std::max(r.a2, a_[i].squaredNorm());
+          r.nu = std::max(r.nu, mu_[i] / rho_[i]);
+        }
+        return r;
+      },
+      [](Extremes a, Extremes b) {
+        return Extremes{std::max(a.v2, b.v2), std::max(a.a2, b.a2), std::max(a.nu, b.nu)};
+      });
+  std::vector<std::pair<std::string, Real>> bounds;
+  bounds.emplace_back("max_dt", s.max_dt);
+  bounds.emplace_back("cfl", s.cfl * hs / (s.speed_of_sound + std::sqrt(e.v2)));
+  if (e.nu > 0) bounds.emplace_back("viscosity", s.viscous_factor * hs * hs / e.nu);
+  if (e.a2 > 0) bounds.emplace_back("force", s.force_factor * std::sqrt(hs / std::sqrt(e.a2)));
+  return bounds;
+}
+
+Real SphSolver::max_stable_dt() {
+  Real dt = std::numeric_limits<Real>::infinity();
+  for (const auto& [name, value] : time_step_bounds())
+    if (value < dt) {
+      dt = value;
+      dt_bound_ = name;
+    }
+  return dt;
+}
+
+void SphSolver::step(Real dt) {
+  if (!(dt > 0) || !std::isfinite(dt)) throw SimulationError(fmt::format("SPH step {}: invalid time step {}", steps_, dt));
+  phase_kick(dt);
+  phase_drift(dt);
+  phase_collide();
+  phase_neighbours();
+  phase_density();
+  phase_pressure();
+  phase_forces();
+  phase_kick(dt);
+  phase_xsph();
+  time_ += dt;
+  ++steps_;
+  check_finite();
+}
+
+// ---- probes ------------------------------------------------------------------
+
+std::vector<std::string> SphSolver::probe_quantities() const {
+  return {"temperature", "density", "pressure", "speed", "velocity_x", "velocity_y", "velocity_z"};
+}
+
+// Shepard-normalised SPH interpolation: A(x) = Σ V_j A_j W / Σ V_j W.
+std::vector<Real> SphSolver::sample(const Vec3& x, const std::vector<std::string>& quantities) const {
+  std::vector<Real> sum(quantities.size(), 0.0);
+  Real wsum = 0.0;
+  const Real h2 = h_ * h_;
+  search_.grid().for_each_nearby(x, [&](std::uint32_t j) {
+    const Real r2 = (x_[j] - x).squaredNorm();
+    if (r2 >= h2) return;
+    const Real w = m_[j] / rho_[j] * kernel_.w(std::sqrt(r2));
+    wsum += w;
+    for (std::size_t q = 0; q < quantities.size(); ++q) {
+      const std::string& name = quantities[q];
+      Real val = 0;
+      if (name == "temperature") val = temperature_[j];
+      else if (name == "density") val = rho_[j];
+      else if (name == "pressure") val = p_[j];
+      else if (name == "speed") val = v_[j].norm();
+      else if (name == "velocity_x") val = v_[j].x();
+      else if (name == "velocity_y") val = v_[j].y();
+      else if (name == "velocity_z") val = v_[j].z();
+      else throw InputError("probes", "unknown probe quantity '" + name + "'");
+      sum[q] += w * val;
+    }
+  });
+  for (Real& s : sum) s = wsum > 1e-12 ? s / wsum : std::numeric_limits<Real>::quiet_NaN();
+  return sum;
+}
+
+}  // namespace bakesim::sph
