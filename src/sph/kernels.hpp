@@ -41,6 +41,18 @@ class CubicSpline {
     }
     return 0.0;
   }
+  // W'(r)/r without a division in the inner branch (the gradient is
+  // dw_dr_over_r(r) · rij).
+  Real dw_dr_over_r(Real r) const {
+    const Real q = 2.0 * r * inv_h_;
+    const Real f = sigma_ * 2.0 * inv_h_;
+    if (q < 1.0) return f * 2.0 * inv_h_ * (-3.0 + 2.25 * q);
+    if (q < 2.0) {
+      const Real a = 2.0 - q;
+      return f * (-0.75 * a * a) / r;
+    }
+    return 0.0;
+  }
   // ∇_i W(x_i − x_j) for rij = x_i − x_j with |rij| = r > 0.
   Vec3 gradient(const Vec3& rij, Real r) const { return (r > 0 ? dw_dr(r) / r : 0.0) * rij; }
   // The 3D Laplacian W'' + 2W'/r (Eq 3.12 is W'' alone, without its 4/h² and

@@ -75,7 +75,7 @@ void CellGrid::sort(const std::vector<Vec3>& x, std::vector<std::uint32_t>& orde
 
 NeighbourSearch::NeighbourSearch(NeighbourMethod method, const Aabb& domain, Real support)
     : method_(method), h_(support) {
-  grid_.configure(domain, support);
+  grid_.configure(domain, 0.5 * support);
 }
 
 void NeighbourSearch::sort_order(const std::vector<Vec3>& x, std::vector<std::uint32_t>& order) {
@@ -149,9 +149,25 @@ void NeighbourSearch::find(const std::vector<Vec3>& x, NeighbourLists& lists) {
   if (method_ == NeighbourMethod::grid) {
     fill(n, lists, [&](std::size_t i, auto&& emit) {
       const Vec3 xi = x[i];
-      grid_.for_each_nearby(xi, [&](std::uint32_t j) {
-        if (j != i && (x[j] - xi).squaredNorm() < h2) emit(j);
+      // Branch-free candidate test into a local buffer: about a third of the
+      // candidates are neighbours, so a branch here mispredicts often.
+      constexpr std::size_t kBuf = 2048;
+      std::uint32_t buf[kBuf];
+      std::size_t c = 0;
+      bool overflow = false;
+      grid_.for_each_within(xi, h_, [&](std::uint32_t j) {
+        const Vec3 d = x[j] - xi;
+        const Real d2 = d.squaredNorm();
+        buf[c] = j;
+        c += static_cast<std::size_t>((d2 < h2) & (j != i));
+        if (c == kBuf) {
+          for (std::size_t k = 0; k < c; ++k) emit(buf[k]);
+          c = 0;
+          overflow = true;
+        }
       });
+      (void)overflow;
+      for (std::size_t k = 0; k < c; ++k) emit(buf[k]);
     });
   } else {
     PointCloud cloud{x};

@@ -4,7 +4,10 @@
 //    sort), so each 3×3×3 block is nine contiguous runs of memory;
 //  - a kd-tree (nanoflann).
 // Lists hold, for each particle, the indices of the other particles closer
-// than h (self excluded), in a fixed stride that grows when needed.
+// than h (self excluded), in ascending index order, in a fixed stride that
+// grows when needed. The grid's cells are h/2 wide: fewer candidates per
+// particle than h-wide cells.
+#include <algorithm>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -44,9 +47,10 @@ class CellGrid {
   void sort(const std::vector<Vec3>& x, std::vector<std::uint32_t>& order);
   std::int64_t cell_of(const Vec3& p) const;
   void cell_coords(const Vec3& p, int& cx, int& cy, int& cz) const;
-  // Calls fn(j) for every particle in the 3×3×3 cells around p (after sort()).
+  // Calls fn(j) for every particle in cells that a sphere around p touches
+  // (after sort()); candidates still need a distance test.
   template <class Fn>
-  void for_each_nearby(const Vec3& p, Fn&& fn) const;
+  void for_each_within(const Vec3& p, Real radius, Fn&& fn) const;
   Real cell_size() const { return cell_; }
 
  private:
@@ -81,16 +85,29 @@ class NeighbourSearch {
 NeighbourLists brute_force_neighbours(const std::vector<Vec3>& x, Real support);
 
 template <class Fn>
-void CellGrid::for_each_nearby(const Vec3& p, Fn&& fn) const {
-  int cx, cy, cz;
-  cell_coords(p, cx, cy, cz);
-  const int x0 = std::max(cx - 1, 0), x1 = std::min(cx + 1, nx_ - 1);
-  for (int z = std::max(cz - 1, 0); z <= std::min(cz + 1, nz_ - 1); ++z)
-    for (int y = std::max(cy - 1, 0); y <= std::min(cy + 1, ny_ - 1); ++y) {
+void CellGrid::for_each_within(const Vec3& p, Real radius, Fn&& fn) const {
+  // Visit only rows of cells (contiguous in memory after sort()) that the
+  // sphere of the given radius touches, clipped in x to the sphere.
+  auto cl = [](Real v, int n) { return v < 0 ? 0 : std::min(n - 1, int(v)); };
+  const int x0 = cl((p.x() - radius - box_.min.x()) * inv_cell_, nx_);
+  const int x1 = cl((p.x() + radius - box_.min.x()) * inv_cell_, nx_);
+  const int y0 = cl((p.y() - radius - box_.min.y()) * inv_cell_, ny_);
+  const int y1 = cl((p.y() + radius - box_.min.y()) * inv_cell_, ny_);
+  const int z0 = cl((p.z() - radius - box_.min.z()) * inv_cell_, nz_);
+  const int z1 = cl((p.z() + radius - box_.min.z()) * inv_cell_, nz_);
+  const Real r2 = radius * radius;
+  for (int z = z0; z <= z1; ++z) {
+    const Real zlo = box_.min.z() + z * cell_;
+    const Real dz = std::max({0.0, zlo - p.z(), p.z() - (zlo + cell_)});
+    for (int y = y0; y <= y1; ++y) {
+      const Real ylo = box_.min.y() + y * cell_;
+      const Real dy = std::max({0.0, ylo - p.y(), p.y() - (ylo + cell_)});
+      if (dy * dy + dz * dz >= r2) continue;
       const std::size_t row = std::size_t(nx_) * (std::size_t(y) + std::size_t(ny_) * z);
       const std::uint32_t b = cell_start_[row + x0], e = cell_start_[row + x1 + 1];
       for (std::uint32_t j = b; j < e; ++j) fn(j);
     }
+  }
 }
 
 }  // namespace bakesim::sph

@@ -146,12 +146,26 @@ void SphSolver::phase_density() {
   const Real w0 = kernel_.w(0.0);
   const Vec3* x = x_.data();
   const Real* m = m_.data();
+  const std::size_t stride = lists_.stride();
+  pair_r_.resize(x_.size() * stride);
+  pair_w_.resize(x_.size() * stride);
+  pair_dwr_.resize(x_.size() * stride);
   parallel_for(x_.size(), [&](std::size_t i) {
     const Vec3 xi = x[i];
     Real rho = m[i] * w0;
-    for (const std::uint32_t* it = lists_.begin(i); it != lists_.end(i); ++it) {
-      const std::uint32_t j = *it;
-      rho += m[j] * kernel_.w((xi - x[j]).norm());
+    const std::uint32_t* nb = lists_.begin(i);
+    const std::uint32_t count = lists_.count(i);
+    float* pr = pair_r_.data() + i * stride;
+    float* pw = pair_w_.data() + i * stride;
+    float* pd = pair_dwr_.data() + i * stride;
+    for (std::uint32_t k = 0; k < count; ++k) {
+      const std::uint32_t j = nb[k];
+      const Real r = (xi - x[j]).norm();
+      const Real w = kernel_.w(r);
+      rho += m[j] * w;
+      pr[k] = static_cast<float>(r);
+      pw[k] = static_cast<float>(w);
+      pd[k] = static_cast<float>(r > 0 ? kernel_.dw_dr_over_r(r) : 0.0);
     }
     if (wall_corr) {
       const Real rho0 = setup_.materials[material_[i]].rest_density;
@@ -167,11 +181,18 @@ void SphSolver::phase_pressure() {
   ScopedPhase t(timers_, t_pressure_);
   const Real gamma = setup_.settings.gamma;
   const bool clamp = setup_.settings.clamp_negative_pressure;
+  p_over_rho2_.resize(x_.size());
+  volume_.resize(x_.size());
   parallel_for(x_.size(), [&](std::size_t i) {
     const int mat = material_[i];
-    Real p = tait_b_[mat] * (std::pow(rho_[i] / setup_.materials[mat].rest_density, gamma) - 1.0);
+    const Real ratio = rho_[i] / setup_.materials[mat].rest_density;
+    // γ = 7 is the common case: multiply instead of calling pow.
+    const Real power = gamma == 7.0 ? ratio * ratio * ratio * ratio * ratio * ratio * ratio : std::pow(ratio, gamma);
+    Real p = tait_b_[mat] * (power - 1.0);
     if (clamp && p < 0) p = 0;
     p_[i] = p;
+    p_over_rho2_[i] = p / (rho_[i] * rho_[i]);
+    volume_[i] = m_[i] / rho_[i];
   }, 1024);
 }
 
@@ -193,37 +214,42 @@ void SphSolver::phase_forces() {
   const Vec3 g = setup_.gravity;
   const bool wall_corr = s.wall_density_correction;
 
+  const Real* p_rho2 = p_over_rho2_.data();
+  const Real* vol = volume_.data();
+  const Real visc_c = 45.0 / (kPi * std::pow(h, 6));  // Eq 3.8
   parallel_for(x_.size(), [&](std::size_t i) {
     const Vec3 xi = x[i], vi = v[i];
-    const Real rhoi = rho[i], pi_rho2 = p[i] / (rhoi * rhoi), mui = mu[i];
+    const Real rhoi = rho[i], pi_rho2 = p_rho2[i], mui = mu[i];
     Vec3 acc_p = Vec3::Zero(), acc_v = Vec3::Zero(), acc_av = Vec3::Zero(), normal = Vec3::Zero();
     Real lap_c = 0.0;
-    for (const std::uint32_t* it = lists_.begin(i); it != lists_.end(i); ++it) {
-      const std::uint32_t j = *it;
+    const std::uint32_t* nb = lists_.begin(i);
+    const std::uint32_t count = lists_.count(i);
+    const float* pr = pair_r_.data() + i * lists_.stride();
+    const float* pd = pair_dwr_.data() + i * lists_.stride();
+    for (std::uint32_t k = 0; k < count; ++k) {
+      const std::uint32_t j = nb[k];
+      const Real r = pr[k];
       const Vec3 xij = xi - x[j];
-      const Real r = xij.norm();
-      if (r <= 0) continue;
-      const Vec3 grad = kernel_.gradient(xij, r);
-      const Real rhoj = rho[j];
+      const Vec3 grad = Real(pd[k]) * xij;  // zero for coincident particles
       // Eq 3.18: symmetric pressure gradient.
-      acc_p -= m[j] * (pi_rho2 + p[j] / (rhoj * rhoj)) * grad;
+      acc_p -= (m[j] * (pi_rho2 + p_rho2[j])) * grad;
       // Eq 3.19: pairwise-averaged viscosity with the viscosity-kernel Laplacian.
       const Vec3 vij = vi - v[j];
-      acc_v -= (0.5 * (mui + mu[j]) * m[j] / rhoj * visc_lap_(r)) * vij;
-      // Eq 3.35–3.41: artificial viscosity, only for approaching pairs.
+      acc_v -= (0.5 * (mui + mu[j]) * vol[j] * visc_c * (h - r)) * vij;
+      // Eq 3.35–3.41: artificial viscosity, only for approaching pairs
+      // (branch-free: min(v·x, 0) makes Π vanish for receding pairs).
       if (artificial) {
-        const Real vx = vij.dot(xij);
-        if (vx < 0) {
-          const Real mu_ij = h * vx / (r * r + av_eps_h2);
-          const Real pi_ij = (-s.av_alpha * c * mu_ij + s.av_beta * mu_ij * mu_ij) / (0.5 * (rhoi + rhoj));
-          acc_av -= m[j] * pi_ij * grad;
-        }
+        const Real vx = std::min(vij.dot(xij), 0.0);
+        const Real denom = r * r + av_eps_h2;
+        const Real inv = 1.0 / (denom * denom * 0.5 * (rhoi + rho[j]));
+        const Real hvx = h * vx;
+        const Real pi_ij = (-s.av_alpha * c * hvx * denom + s.av_beta * hvx * hvx) * inv;
+        acc_av -= (m[j] * pi_ij) * grad;
       }
       if (any_tension) {
         // Eq 3.28–3.29: colour field gradient and Laplacian.
-        const Real vol = m[j] / rhoj;
-        normal += vol * grad;
-        lap_c += vol * kernel_.laplacian(r);
+        normal += vol[j] * grad;
+        lap_c += vol[j] * kernel_.laplacian(r);
       }
     }
     Vec3 acc = acc_p + acc_v / rhoi + acc_av + g;
@@ -302,10 +328,13 @@ void SphSolver::phase_xsph() {
   const Vec3* v = v_.data();
   parallel_for(x_.size(), [&](std::size_t i) {
     Vec3 corr = Vec3::Zero();
-    const Vec3 xi = x[i], vi = v[i];
-    for (const std::uint32_t* it = lists_.begin(i); it != lists_.end(i); ++it) {
-      const std::uint32_t j = *it;
-      const Real w = kernel_.w((xi - x[j]).norm());
+    const Vec3 vi = v[i];
+    const std::uint32_t* nb = lists_.begin(i);
+    const std::uint32_t count = lists_.count(i);
+    const float* pw = pair_w_.data() + i * lists_.stride();
+    for (std::uint32_t k = 0; k < count; ++k) {
+      const std::uint32_t j = nb[k];
+      const Real w = pw[k];
       corr += (0.5 * (eps_[i] + eps_[j]) * 2.0 * m_[j] / (rho_[i] + rho_[j]) * w) * (v[j] - vi);
     }
     dv_[i] = corr;
@@ -400,7 +429,7 @@ std::vector<Real> SphSolver::sample(const Vec3& x, const std::vector<std::string
   std::vector<Real> sum(quantities.size(), 0.0);
   Real wsum = 0.0;
   const Real h2 = h_ * h_;
-  search_.grid().for_each_nearby(x, [&](std::uint32_t j) {
+  search_.grid().for_each_within(x, h_, [&](std::uint32_t j) {
     const Real r2 = (x_[j] - x).squaredNorm();
     if (r2 >= h2) return;
     const Real w = m_[j] / rho_[j] * kernel_.w(std::sqrt(r2));

@@ -140,6 +140,11 @@ class SphSolver final : public Solver {
   std::vector<std::int32_t>& id_;
   std::vector<std::int32_t>& ncount_;
   std::vector<std::uint32_t> order_;
+  std::vector<Real> p_over_rho2_;  // P/ρ², per particle (pressure phase)
+  std::vector<Real> volume_;       // m/ρ, per particle (pressure phase)
+  // Per neighbour pair, in the layout of lists_ (computed by the density
+  // phase, valid until positions change): r, W(r) and W'(r)/r.
+  std::vector<float> pair_r_, pair_w_, pair_dwr_;
   std::vector<std::size_t> body_counts_;
 
   PhaseTimers timers_;
