@@ -211,10 +211,6 @@ void SchemaValidator::check(json& value, const json& schema_in, const std::strin
     const json& props = s.contains("properties") ? s["properties"] : kEmpty;
     std::vector<std::string> allowed;
     for (auto it = props.begin(); it != props.end(); ++it) allowed.push_back(it.key());
-    if (s.contains("required"))
-      for (const json& r : s["required"])
-        if (!value.contains(r.get<std::string>()))
-          fail(fmt::format("missing required key '{}'", r.get<std::string>()));
     for (auto it = value.begin(); it != value.end(); ++it) {
       const std::string key = it.key();
       const std::string sub = join_path(path, key);
@@ -229,6 +225,11 @@ void SchemaValidator::check(json& value, const json& schema_in, const std::strin
                                      near.empty() ? "" : "; did you mean '" + near + "'?", fmt::join(allowed, ", ")));
       }
     }
+    // After unknown keys: a misspelt key is reported as such, not as the key it should have been.
+    if (s.contains("required"))
+      for (const json& r : s["required"])
+        if (!value.contains(r.get<std::string>()))
+          fail(fmt::format("missing required key '{}'", r.get<std::string>()));
     if (s.contains("minProperties") && value.size() < s["minProperties"].get<std::size_t>())
       fail(fmt::format("needs at least {} entr{}", s["minProperties"].get<std::size_t>(),
                        s["minProperties"].get<std::size_t>() == 1 ? "y" : "ies"));

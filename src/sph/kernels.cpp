@@ -1,32 +1,47 @@
 #include "sph/kernels.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 namespace bakesim::sph {
 
-HalfSpaceIntegrals::HalfSpaceIntegrals(Real h, int samples) : h_(h) {
-  const CubicSpline k(h);
-  gamma_.assign(samples + 1, 0.0);
-  area_.assign(samples + 1, 0.0);
-  // area(z) = 2π ∫_z^h W(r) r dr (the plane z cuts the sphere of radius h).
-  const int fine = 4000;
-  auto area_at = [&](Real z) {
-    const Real dr = (h - z) / fine;
-    Real s = 0;
-    for (int i = 0; i < fine; ++i) {
-      const Real r = z + (i + 0.5) * dr;
-      s += k.w(r) * r * dr;
-    }
-    return 2.0 * kPi * s;
-  };
-  for (int i = 0; i <= samples; ++i) area_[i] = area_at(h * i / samples);
-  // gamma(d) = ∫_d^h area(z) dz, trapezoid from the far end.
-  gamma_[samples] = 0.0;
-  const Real dz = h / samples;
-  for (int i = samples - 1; i >= 0; --i) gamma_[i] = gamma_[i + 1] + 0.5 * dz * (area_[i] + area_[i + 1]);
+Real lattice_kernel_sum(const CubicSpline& k, Real s) {
+  const int n = static_cast<int>(std::ceil(k.support() / s)) + 1;
+  Real sum = 0;
+  for (int i = -n; i <= n; ++i)
+    for (int j = -n; j <= n; ++j)
+      for (int l = -n; l <= n; ++l) sum += k.w(s * std::sqrt(Real(i * i + j * j + l * l)));
+  return sum;
 }
 
-Real HalfSpaceIntegrals::lookup(const std::vector<Real>& t, Real d) const {
+WallKernelShare::WallKernelShare(const CubicSpline& k, Real s, Real lattice_sum, int samples) : h_(k.support()) {
+  const int n = static_cast<int>(std::ceil(h_ / s)) + 1;
+  // Kernel sum and its d-derivative over the ghost layers beyond the wall.
+  auto ghost = [&](Real d, Real& value, Real& derivative) {
+    value = 0;
+    derivative = 0;
+    for (int layer = 0;; ++layer) {
+      const Real z = d + 0.5 * s + layer * s;
+      if (z >= h_) break;
+      for (int i = -n; i <= n; ++i)
+        for (int j = -n; j <= n; ++j) {
+          const Real r = std::sqrt(z * z + s * s * Real(i * i + j * j));
+          value += k.w(r);
+          if (r > 0) derivative += k.dw_dr(r) * z / r;
+        }
+    }
+  };
+  fraction_.assign(samples + 1, 0.0);
+  slope_.assign(samples + 1, 0.0);
+  for (int i = 0; i <= samples; ++i) {
+    Real v, dv;
+    ghost(h_ * i / samples, v, dv);
+    fraction_[i] = v / lattice_sum;
+    slope_[i] = -dv / lattice_sum;
+  }
+}
+
+Real WallKernelShare::lookup(const std::vector<Real>& t, Real d) const {
   const int n = static_cast<int>(t.size()) - 1;
   const Real x = std::clamp(d / h_, 0.0, 1.0) * n;
   const int i = std::min(n - 1, static_cast<int>(x));

@@ -82,20 +82,29 @@ class ViscosityLaplacian {
   Real h_, c_;
 };
 
-// Integrals of the cubic spline over a half-space whose boundary is at
-// distance d from the evaluation point (used for the wall density correction):
-//   gamma(d) = ∫_{z > d} W dV,   area(d) = ∫_{z = d} W dA = −dγ/dd.
-// Tabulated once by quadrature; d < 0 (inside the wall) is clamped to 0.
-class HalfSpaceIntegrals {
+// The share of a particle's kernel sum that lies beyond a planar wall, for the
+// wall density correction. The region beyond the wall is treated as the
+// particle lattice continued through the wall: layers at d + s/2 + k·s from
+// the particle (d = distance to the wall, s = spacing), each an infinite
+// square lattice, normalised by the full lattice sum. So a particle of a
+// lattice body whose first layer sits s/2 from the wall starts at exactly its
+// rest density (the continuum integral would leave it a few % too dense).
+//   fraction(d) ∈ [0, ~0.5],   slope(d) = −d fraction / dd ≥ 0.
+// Tabulated once; d < 0 (inside the wall) is clamped to 0.
+class WallKernelShare {
  public:
-  explicit HalfSpaceIntegrals(Real h, int samples = 512);
-  Real gamma(Real d) const { return lookup(gamma_, d); }
-  Real area(Real d) const { return lookup(area_, d); }
+  WallKernelShare(const CubicSpline& kernel, Real spacing, Real lattice_sum, int samples = 1024);
+  Real fraction(Real d) const { return lookup(fraction_, d); }
+  Real slope(Real d) const { return lookup(slope_, d); }
 
  private:
   Real lookup(const std::vector<Real>& t, Real d) const;
   Real h_;
-  std::vector<Real> gamma_, area_;
+  std::vector<Real> fraction_, slope_;
 };
+
+// Sum of W over an infinite cubic lattice of spacing s around a lattice point,
+// self included.
+Real lattice_kernel_sum(const CubicSpline& kernel, Real spacing);
 
 }  // namespace bakesim::sph

@@ -97,11 +97,15 @@ void CellGrid::for_each_within(const Vec3& p, Real radius, Fn&& fn) const {
   const int z1 = cl((p.z() + radius - box_.min.z()) * inv_cell_, nz_);
   const Real r2 = radius * radius;
   for (int z = z0; z <= z1; ++z) {
-    const Real zlo = box_.min.z() + z * cell_;
-    const Real dz = std::max({0.0, zlo - p.z(), p.z() - (zlo + cell_)});
+    // Border cells also hold particles clamped from outside the grid box, so
+    // they reach to infinity on their outer side.
+    const Real zlo = z == 0 ? -1e300 : box_.min.z() + z * cell_;
+    const Real zhi = z == nz_ - 1 ? 1e300 : box_.min.z() + (z + 1) * cell_;
+    const Real dz = std::max({0.0, zlo - p.z(), p.z() - zhi});
     for (int y = y0; y <= y1; ++y) {
-      const Real ylo = box_.min.y() + y * cell_;
-      const Real dy = std::max({0.0, ylo - p.y(), p.y() - (ylo + cell_)});
+      const Real ylo = y == 0 ? -1e300 : box_.min.y() + y * cell_;
+      const Real yhi = y == ny_ - 1 ? 1e300 : box_.min.y() + (y + 1) * cell_;
+      const Real dy = std::max({0.0, ylo - p.y(), p.y() - yhi});
       if (dy * dy + dz * dz >= r2) continue;
       const std::size_t row = std::size_t(nx_) * (std::size_t(y) + std::size_t(ny_) * z);
       const std::uint32_t b = cell_start_[row + x0], e = cell_start_[row + x1 + 1];

@@ -11,18 +11,6 @@
 namespace bakesim::sph {
 namespace {
 
-// Sum of W over an infinite cubic lattice of spacing s around a lattice point
-// (self included); used to calibrate particle masses so that a particle with
-// a full neighbourhood starts at exactly its rest density.
-Real lattice_kernel_sum(const CubicSpline& k, Real s) {
-  const int n = static_cast<int>(std::ceil(k.support() / s)) + 1;
-  Real sum = 0;
-  for (int i = -n; i <= n; ++i)
-    for (int j = -n; j <= n; ++j)
-      for (int l = -n; l <= n; ++l) sum += k.w(s * std::sqrt(Real(i * i + j * j + l * l)));
-  return sum;
-}
-
 bool is_mesh(const Collider& c) { return std::holds_alternative<MeshCollider>(c.geometry); }
 
 }  // namespace
@@ -33,7 +21,7 @@ SphSolver::SphSolver(Setup setup)
       contact_distance_(0.5 * setup_.settings.spacing),
       kernel_(h_),
       visc_lap_(h_),
-      half_space_(h_),
+      wall_share_(kernel_, setup_.settings.spacing, lattice_kernel_sum(kernel_, setup_.settings.spacing)),
       search_(setup_.settings.search, setup_.domain, h_),
       x_(particles_.add_vector("position", "m")),
       v_(particles_.add_vector("velocity", "m/s")),
@@ -167,11 +155,7 @@ void SphSolver::phase_density() {
       pw[k] = static_cast<float>(w);
       pd[k] = static_cast<float>(r > 0 ? kernel_.dw_dr_over_r(r) : 0.0);
     }
-    if (wall_corr) {
-      const Real rho0 = setup_.materials[material_[i]].rest_density;
-      for (const Collider& c : walls_)
-        for_each_wall(c.geometry, xi, h_, [&](const WallContact& w) { rho += rho0 * half_space_.gamma(w.distance); });
-    }
+    if (wall_corr) rho += setup_.materials[material_[i]].rest_density * wall_share(xi, nullptr);
     rho_[i] = rho;
   });
 }
@@ -263,11 +247,42 @@ void SphSolver::phase_forces() {
       // Pressure of the wall half-space mirrored at the particle's pressure.
       const Real rho0 = setup_.materials[material_[i]].rest_density;
       const Real coef = p[i] * (1.0 / (rhoi * rhoi) + 1.0 / (rho0 * rho0)) * rho0;
-      for (const Collider& col : walls_)
-        for_each_wall(col.geometry, xi, h, [&](const WallContact& w) { acc += coef * half_space_.area(w.distance) * w.normal; });
+      Vec3 grad_share;
+      if (wall_share(xi, &grad_share) > 0) acc -= coef * grad_share;
     }
     a_[i] = acc;
   });
+}
+
+Real SphSolver::wall_share(const Vec3& x, Vec3* gradient) const {
+  // Few walls are ever within reach; keep their fractions on the stack.
+  constexpr int kMax = 16;
+  Real f[kMax];
+  Vec3 n[kMax];
+  Real df[kMax];
+  int count = 0;
+  for (const Collider& c : walls_)
+    for_each_wall(c.geometry, x, h_, [&](const WallContact& w) {
+      if (count < kMax) {
+        f[count] = wall_share_.fraction(w.distance);
+        df[count] = wall_share_.slope(w.distance);
+        n[count] = w.normal;
+        ++count;
+      }
+    });
+  if (gradient) gradient->setZero();
+  if (count == 0) return 0.0;
+  Real keep = 1.0;
+  for (int k = 0; k < count; ++k) keep *= 1.0 - f[k];
+  if (gradient)
+    for (int k = 0; k < count; ++k) {
+      Real others = 1.0;
+      for (int l = 0; l < count; ++l)
+        if (l != k) others *= 1.0 - f[l];
+      // d f_k / dx = −slope(d_k) · n_k (d grows along the wall normal).
+      *gradient -= others * df[k] * n[k];
+    }
+  return 1.0 - keep;
 }
 
 void SphSolver::phase_kick(Real dt) {
@@ -324,7 +339,6 @@ void SphSolver::phase_xsph() {
   bool any = false;
   for (const Material& m : setup_.materials) any |= m.xsph > 0;
   if (!any) return;
-  const Vec3* x = x_.data();
   const Vec3* v = v_.data();
   parallel_for(x_.size(), [&](std::size_t i) {
     Vec3 corr = Vec3::Zero();

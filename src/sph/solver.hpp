@@ -109,13 +109,17 @@ class SphSolver final : public Solver {
   void phase_collide();
   void phase_xsph();
   void check_finite();
+  // Share of particle i's kernel beyond all analytic walls, 1 − Π(1 − f_k),
+  // and its gradient (walls combined as independent events, exact for a
+  // Gaussian kernel and close for the spline at box edges and corners).
+  Real wall_share(const Vec3& x, Vec3* gradient) const;
 
   Setup setup_;
   Real h_;
   Real contact_distance_;
   CubicSpline kernel_;
   ViscosityLaplacian visc_lap_;
-  HalfSpaceIntegrals half_space_;
+  WallKernelShare wall_share_;
   NeighbourSearch search_;
   NeighbourLists lists_;
   std::vector<Collider> walls_;  // analytic colliders incl. the domain box

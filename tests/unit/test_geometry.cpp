@@ -1,0 +1,157 @@
+// Shapes, sampling, meshes and collider geometry.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "core/errors.hpp"
+#include "geometry/colliders.hpp"
+#include "geometry/mesh_io.hpp"
+#include "geometry/shapes.hpp"
+
+using namespace bakesim;
+namespace fs = std::filesystem;
+
+namespace {
+
+fs::path temp_dir() {
+  const fs::path d = fs::temp_directory_path() / "bakesim_geometry_tests";
+  fs::create_directories(d);
+  return d;
+}
+
+// Unit cube [0,1]^3 as OBJ with quads (outward faces).
+fs::path write_cube_obj() {
+  const fs::path p = temp_dir() / "cube.obj";
+  std::ofstream f(p);
+  f << "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
+       "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 4 8 7 3\nf 1 5 8 4\nf 2 3 7 6\n";
+  return p;
+}
+
+}  // namespace
+
+TEST(Shapes, LatticeFillsABoxExactly) {
+  const auto pts = sample_lattice(BoxShape{Vec3::Zero(), Vec3(0.1, 0.2, 0.05)}, 0.01);
+  EXPECT_EQ(pts.size(), 10u * 20u * 5u);
+  EXPECT_NEAR(pts.front().x(), 0.005, 1e-12);
+}
+
+TEST(Shapes, LatticeVolumesOfSphereAndCylinder) {
+  const double s = 0.002;
+  const double vs = volume_estimate(SphereShape{Vec3::Zero(), 0.05}, s);
+  EXPECT_NEAR(vs, 4.0 / 3.0 * kPi * std::pow(0.05, 3), 0.02 * vs);
+  const double vc = volume_estimate(CylinderShape{Vec3::Zero(), Vec3(1, 1, 0).normalized(), 0.03, 0.1}, s);
+  EXPECT_NEAR(vc, kPi * 0.03 * 0.03 * 0.1, 0.03 * vc);
+}
+
+TEST(Shapes, UnionAndDifference) {
+  auto u = std::make_shared<ShapeUnion>();
+  u->parts = {BoxShape{Vec3::Zero(), Vec3::Ones()}, SphereShape{Vec3(2, 0, 0), 0.5}};
+  const Shape su = std::shared_ptr<const ShapeUnion>(u);
+  EXPECT_TRUE(contains(su, Vec3(0.5, 0.5, 0.5)));
+  EXPECT_TRUE(contains(su, Vec3(2.2, 0, 0)));
+  auto d = std::make_shared<ShapeDifference>();
+  d->base = BoxShape{Vec3::Zero(), Vec3::Ones()};
+  d->subtract = {SphereShape{Vec3(0.5, 0.5, 0.5), 0.25}};
+  const Shape sd = std::shared_ptr<const ShapeDifference>(d);
+  EXPECT_FALSE(contains(sd, Vec3(0.5, 0.5, 0.5)));
+  EXPECT_TRUE(contains(sd, Vec3(0.1, 0.1, 0.1)));
+}
+
+TEST(Meshes, ObjCubeLoadsAndFillsWithParticles) {
+  TriangleMesh m = load_mesh(write_cube_obj().string());
+  EXPECT_EQ(m.vertices.size(), 8u);
+  EXPECT_EQ(m.triangles.size(), 12u);
+  EXPECT_NEAR(m.signed_volume(), 1.0, 1e-12);
+  m.apply(0.1, Vec3(0, 0, 45), Vec3(1, 2, 3));
+  EXPECT_NEAR(m.signed_volume(), 1e-3, 1e-15);
+  const MeshShape shape(m);
+  // The lattice of a rotated cube still holds its volume.
+  const double v = volume_estimate(std::make_shared<const MeshShape>(m), 0.0025);
+  EXPECT_NEAR(v, 1e-3, 0.05e-3);
+  EXPECT_TRUE(shape.contains(Vec3(1, 2.05, 3.05)));
+  EXPECT_FALSE(shape.contains(Vec3(1.2, 2.05, 3.05)));
+}
+
+TEST(Meshes, PlyAsciiAndBinaryAgree) {
+  const fs::path a = temp_dir() / "tet_ascii.ply", b = temp_dir() / "tet_binary.ply";
+  std::ofstream(a) << "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+                      "element face 4\nproperty list uchar int vertex_indices\nend_header\n"
+                      "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+  {
+    std::ofstream f(b, std::ios::binary);
+    f << "ply\nformat binary_little_endian 1.0\nelement vertex 4\nproperty double x\nproperty double y\n"
+         "property double z\nelement face 4\nproperty list uchar uint vertex_indices\nend_header\n";
+    const double v[12] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1};
+    f.write(reinterpret_cast<const char*>(v), sizeof v);
+    const std::uint32_t faces[4][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+    for (const auto& t : faces) {
+      const unsigned char n = 3;
+      f.write(reinterpret_cast<const char*>(&n), 1);
+      f.write(reinterpret_cast<const char*>(t), sizeof t);
+    }
+  }
+  const TriangleMesh ma = load_mesh(a.string()), mb = load_mesh(b.string());
+  EXPECT_EQ(ma.triangles, mb.triangles);
+  EXPECT_NEAR(ma.signed_volume(), 1.0 / 6.0, 1e-7);
+  EXPECT_NEAR(mb.signed_volume(), 1.0 / 6.0, 1e-12);
+}
+
+TEST(Meshes, BadFilesNameTheirPath) {
+  EXPECT_THROW(load_mesh("/no/such/file.obj"), InputError);
+  const fs::path bad = temp_dir() / "bad.stl";
+  std::ofstream(bad) << "solid x\n";
+  try {
+    load_mesh(bad.string());
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.stl"), std::string::npos);
+  }
+  const fs::path idx = temp_dir() / "bad_index.obj";
+  std::ofstream(idx) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n";
+  EXPECT_THROW(load_mesh(idx.string()), InputError);
+}
+
+TEST(RayTriangle, HitsAndMisses) {
+  const Vec3 a(0, 0, 0), b(1, 0, 0), c(0, 1, 0);
+  const auto hit = intersect_ray_triangle(Vec3(0.2, 0.2, 1), Vec3(0, 0, -1), a, b, c);
+  ASSERT_TRUE(hit);
+  EXPECT_NEAR(*hit, 1.0, 1e-12);
+  EXPECT_FALSE(intersect_ray_triangle(Vec3(0.8, 0.8, 1), Vec3(0, 0, -1), a, b, c));
+  EXPECT_FALSE(intersect_ray_triangle(Vec3(0.2, 0.2, 1), Vec3(0, 0, 1), a, b, c));
+}
+
+TEST(Colliders, ContainerWallsFaceInwardAndTheTopIsOpen) {
+  const ContainerCollider cont{{Vec3(0, 0, 0), Vec3(1, 0.5, 1)}, 0.05};
+  int walls = 0;
+  for_each_wall(ColliderGeometry(cont), Vec3(0.5, 0.01, 0.5), 0.02, [&](const WallContact& w) {
+    ++walls;
+    EXPECT_NEAR(w.distance, 0.01, 1e-12);
+    EXPECT_TRUE(w.normal.isApprox(Vec3::UnitY()));
+  });
+  EXPECT_EQ(walls, 1);
+  walls = 0;
+  for_each_wall(ColliderGeometry(cont), Vec3(0.01, 0.3, 0.5), 0.02, [&](const WallContact& w) {
+    ++walls;
+    EXPECT_TRUE(w.normal.isApprox(Vec3::UnitX()));
+  });
+  EXPECT_EQ(walls, 1);
+  walls = 0;
+  for_each_wall(ColliderGeometry(cont), Vec3(0.5, 0.52, 0.5), 0.01, [&](const WallContact&) { ++walls; });
+  EXPECT_EQ(walls, 0);  // above the open top
+}
+
+TEST(Colliders, MeshSegmentOnlyHitsFacingTriangles) {
+  auto mesh = std::make_shared<TriangleMesh>();
+  mesh->vertices = {Vec3(-1, 0, -1), Vec3(1, 0, -1), Vec3(1, 0, 1), Vec3(-1, 0, 1)};
+  mesh->triangles = {{0, 2, 1}, {0, 3, 2}};  // normal +y
+  ASSERT_TRUE(mesh->normal(0).isApprox(Vec3::UnitY()));
+  MeshCollider mc{mesh, std::make_shared<const TriangleGrid>(*mesh, 0.1)};
+  EXPECT_EQ(mesh_segment_hits(mc, Vec3(0.3, 0.05, 0.1), Vec3(0.3, -0.01, 0.1), 0.001).hits, 1);
+  EXPECT_EQ(mesh_segment_hits(mc, Vec3(0.1, -0.05, 0.1), Vec3(0.1, 0.01, 0.1), 0.001).hits, 0);
+  EXPECT_EQ(mesh_segment_hits(mc, Vec3(0.1, 0.05, 0.1), Vec3(0.1, 0.02, 0.1), 0.001).hits, 0);
+  // Reach of the particle radius: stops a particle about to touch the plane.
+  EXPECT_EQ(mesh_segment_hits(mc, Vec3(0.3, 0.05, 0.1), Vec3(0.3, 0.002, 0.1), 0.004).hits, 1);
+}

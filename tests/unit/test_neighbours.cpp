@@ -1,0 +1,92 @@
+// Neighbour search against brute force on random sets (thesis 3.1.2).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+
+#include "core/errors.hpp"
+#include "core/particles.hpp"
+#include "sph/neighbours.hpp"
+
+using namespace bakesim;
+using namespace bakesim::sph;
+
+namespace {
+
+std::vector<Vec3> random_points(std::size_t n, const Aabb& box, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<Vec3> x(n);
+  for (auto& p : x)
+    for (int k = 0; k < 3; ++k) p[k] = box.min[k] + u(rng) * (box.max[k] - box.min[k]);
+  return x;
+}
+
+void expect_same_lists(const NeighbourLists& a, const NeighbourLists& b) {
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    std::vector<std::uint32_t> la(a.begin(i), a.end(i)), lb(b.begin(i), b.end(i));
+    std::sort(la.begin(), la.end());
+    std::sort(lb.begin(), lb.end());
+    ASSERT_EQ(la, lb) << "particle " << i;
+  }
+}
+
+class NeighbourMethods : public ::testing::TestWithParam<NeighbourMethod> {};
+
+}  // namespace
+
+TEST_P(NeighbourMethods, MatchesBruteForceOnRandomSets) {
+  const Aabb domain{Vec3(-0.3, 0.0, -0.1), Vec3(0.5, 0.4, 0.2)};
+  for (unsigned seed : {1u, 2u, 3u}) {
+    const double h = 0.05 + 0.01 * seed;
+    std::vector<Vec3> x = random_points(3000, domain, seed);
+    NeighbourSearch search(GetParam(), domain, h);
+    std::vector<std::uint32_t> order;
+    search.sort_order(x, order);
+    std::vector<Vec3> sorted(x.size());
+    for (std::size_t i = 0; i < x.size(); ++i) sorted[i] = x[order[i]];
+    NeighbourLists lists;
+    search.find(sorted, lists);
+    expect_same_lists(lists, brute_force_neighbours(sorted, h));
+    // Lists are in ascending order, so sums do not depend on the method.
+    for (std::size_t i = 0; i < lists.size(); ++i) EXPECT_TRUE(std::is_sorted(lists.begin(i), lists.end(i)));
+  }
+}
+
+TEST_P(NeighbourMethods, HandlesPointsOutsideTheDomainAndDenseClusters) {
+  const Aabb domain{Vec3::Zero(), Vec3::Ones()};
+  std::vector<Vec3> x = random_points(500, Aabb{Vec3::Constant(-0.2), Vec3::Constant(1.2)}, 7);
+  // A dense cluster forces the list stride to grow.
+  for (int i = 0; i < 400; ++i) x.push_back(Vec3(0.5, 0.5, 0.5) + 1e-4 * Vec3(i % 7, i % 11, i % 13));
+  NeighbourSearch search(GetParam(), domain, 0.1);
+  std::vector<std::uint32_t> order;
+  search.sort_order(x, order);
+  std::vector<Vec3> sorted(x.size());
+  for (std::size_t i = 0; i < x.size(); ++i) sorted[i] = x[order[i]];
+  NeighbourLists lists;
+  search.find(sorted, lists);
+  expect_same_lists(lists, brute_force_neighbours(sorted, 0.1));
+  EXPECT_GE(lists.max_count(), 399u);
+}
+
+INSTANTIATE_TEST_SUITE_P(Search, NeighbourMethods, ::testing::Values(NeighbourMethod::grid, NeighbourMethod::kdtree),
+                         [](const auto& info) { return to_string(info.param); });
+
+TEST(ParticleSet, PermuteReordersEveryAttribute) {
+  ParticleSet ps;
+  auto& a = ps.add_scalar("a", "");
+  auto& v = ps.add_vector("v", "m/s");
+  auto& id = ps.add_int("id");
+  ps.resize(4);
+  for (int i = 0; i < 4; ++i) {
+    a[i] = i;
+    v[i] = Vec3::Constant(i);
+    id[i] = i;
+  }
+  ps.permute({3, 1, 0, 2});
+  EXPECT_EQ(a[0], 3);
+  EXPECT_EQ(v[3], Vec3::Constant(2));
+  EXPECT_EQ(id[2], 0);
+  EXPECT_THROW(ps.add_scalar("a", ""), Error);
+}
