@@ -33,6 +33,13 @@ WallContact box_contact(const Aabb& box, const Vec3& p) {
   return {-best, n};
 }
 
+MeshCollider MeshCollider::build(TriangleMesh mesh, Real cell_size) {
+  auto m = std::make_shared<const TriangleMesh>(std::move(mesh));
+  auto normals = std::make_shared<std::vector<Vec3>>(m->triangles.size());
+  for (std::size_t t = 0; t < m->triangles.size(); ++t) (*normals)[t] = m->normal(t);
+  return MeshCollider{m, std::make_shared<const TriangleGrid>(*m, cell_size), normals};
+}
+
 SegmentHit mesh_segment_hits(const MeshCollider& m, const Vec3& from, const Vec3& to, Real radius) {
   SegmentHit out;
   const Vec3 delta = to - from;
@@ -43,7 +50,7 @@ SegmentHit mesh_segment_hits(const MeshCollider& m, const Vec3& from, const Vec3
   Aabb box{from.cwiseMin(to) - Vec3::Constant(radius), from.cwiseMax(to) + Vec3::Constant(radius)};
   const TriangleMesh& mesh = *m.mesh;
   m.grid->for_each_candidate(box, [&](std::uint32_t t) {
-    const Vec3 n = mesh.normal(t);
+    const Vec3& n = (*m.normals)[t];
     if (n.dot(dir) >= 0) return;  // only triangles facing the incoming particle
     const auto& tri = mesh.triangles[t];
     const auto hit = intersect_ray_triangle(from, dir, mesh.vertices[tri[0]], mesh.vertices[tri[1]],

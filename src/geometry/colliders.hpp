@@ -45,6 +45,8 @@ struct InsideBoxCollider {
 struct MeshCollider {
   std::shared_ptr<const TriangleMesh> mesh;
   std::shared_ptr<const TriangleGrid> grid;
+  std::shared_ptr<const std::vector<Vec3>> normals;  // per triangle, unit
+  static MeshCollider build(TriangleMesh mesh, Real cell_size);
 };
 
 using ColliderGeometry =

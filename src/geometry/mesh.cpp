@@ -62,6 +62,26 @@ std::optional<Real> intersect_ray_triangle(const Vec3& origin, const Vec3& dir, 
   return t;
 }
 
+Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 ab = b - a, ac = c - a, ap = p - a;
+  const Real d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) return a;
+  const Vec3 bp = p - b;
+  const Real d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return b;
+  const Real vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + (d1 / (d1 - d3)) * ab;
+  const Vec3 cp = p - c;
+  const Real d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return c;
+  const Real vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + (d2 / (d2 - d6)) * ac;
+  const Real va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
+  const Real denom = 1.0 / (va + vb + vc);
+  return a + ab * (vb * denom) + ac * (vc * denom);
+}
+
 TriangleGrid::TriangleGrid(const TriangleMesh& mesh, Real cell_size) {
   if (mesh.triangles.empty()) return;
   bounds_ = mesh.bounds();
@@ -74,15 +94,26 @@ TriangleGrid::TriangleGrid(const TriangleMesh& mesh, Real cell_size) {
   nz_ = std::max(1, int(std::ceil(ext.z() / cell_)) + 1);
   const std::size_t ncell = std::size_t(nx_) * ny_ * nz_;
   std::vector<std::uint32_t> count(ncell + 1, 0);
+  // Conservative: a cell is kept when the triangle comes within the cell's
+  // circumscribed sphere.
+  const Real reach2 = 0.75 * cell_ * cell_ * (1.0 + 1e-9);
   auto cells_of = [&](std::size_t t, auto&& fn) {
-    Aabb b = Aabb::empty_box();
-    for (int k = 0; k < 3; ++k) b.expand(mesh.vertices[mesh.triangles[t][k]]);
-    const Vec3 lo = (b.min - bounds_.min) / cell_, hi = (b.max - bounds_.min) / cell_;
+    const Vec3& a = mesh.vertices[mesh.triangles[t][0]];
+    const Vec3& b = mesh.vertices[mesh.triangles[t][1]];
+    const Vec3& c = mesh.vertices[mesh.triangles[t][2]];
+    Aabb box = Aabb::empty_box();
+    box.expand(a);
+    box.expand(b);
+    box.expand(c);
+    const Vec3 lo = (box.min - bounds_.min) / cell_, hi = (box.max - bounds_.min) / cell_;
     auto cl = [](Real v, int n) { return std::max(0, std::min(n - 1, int(v))); };
     for (int z = cl(lo.z(), nz_); z <= cl(hi.z(), nz_); ++z)
       for (int y = cl(lo.y(), ny_); y <= cl(hi.y(), ny_); ++y)
-        for (int x = cl(lo.x(), nx_); x <= cl(hi.x(), nx_); ++x)
-          fn(std::size_t(x) + std::size_t(nx_) * (std::size_t(y) + std::size_t(ny_) * z));
+        for (int x = cl(lo.x(), nx_); x <= cl(hi.x(), nx_); ++x) {
+          const Vec3 centre = bounds_.min + cell_ * Vec3(x + 0.5, y + 0.5, z + 0.5);
+          if ((closest_point_on_triangle(centre, a, b, c) - centre).squaredNorm() <= reach2)
+            fn(std::size_t(x) + std::size_t(nx_) * (std::size_t(y) + std::size_t(ny_) * z));
+        }
   };
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) cells_of(t, [&](std::size_t c) { ++count[c + 1]; });
   cell_start_.assign(ncell + 1, 0);

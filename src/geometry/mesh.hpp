@@ -31,7 +31,13 @@ Mat3 rotation_from_degrees(const Vec3& degrees);
 std::optional<Real> intersect_ray_triangle(const Vec3& origin, const Vec3& dir, const Vec3& a,
                                            const Vec3& b, const Vec3& c);
 
-// Uniform grid of triangle ids by bounding box, for segment queries near a mesh.
+// Closest point to p on triangle (a, b, c), by Voronoi regions of the
+// vertices, edges and face.
+Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
+
+// Uniform grid of triangle ids: a triangle is listed in every cell it passes
+// through (not every cell of its bounding box, which for long slanted
+// triangles would cover much empty space), for segment queries near a mesh.
 class TriangleGrid {
  public:
   TriangleGrid() = default;

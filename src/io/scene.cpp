@@ -95,9 +95,7 @@ ColliderGeometry build_collider_geometry(const Ctx& c, const std::string& path, 
     require_box(c, path, vec3(s["min"]), vec3(s["max"]));
     return ContainerCollider{{vec3(s["min"]), vec3(s["max"])}, s["wall_thickness"].get<double>()};
   }
-  auto mesh = std::make_shared<const TriangleMesh>(load_transformed_mesh(c, path, s));
-  auto grid = std::make_shared<const TriangleGrid>(*mesh, cell);
-  return MeshCollider{mesh, grid};
+  return MeshCollider::build(load_transformed_mesh(c, path, s), cell);
 }
 
 void check_unique_names(const Ctx& c, const json& list, const std::string& key) {

@@ -143,12 +143,26 @@ TEST(Colliders, ContainerWallsFaceInwardAndTheTopIsOpen) {
   EXPECT_EQ(walls, 0);  // above the open top
 }
 
+TEST(Meshes, ClosestPointOnTriangleMatchesBruteForce) {
+  const Vec3 a(0, 0, 0), b(1, 0, 0), c(0.3, 0.8, 0.2);
+  for (const Vec3& p : {Vec3(0.2, 0.2, 1), Vec3(-1, -1, 0), Vec3(2, 0.1, 0), Vec3(0.5, 1, -1), Vec3(0.6, -0.5, 0.3)}) {
+    const Vec3 q = closest_point_on_triangle(p, a, b, c);
+    double best = 1e300;
+    for (int i = 0; i <= 400; ++i)
+      for (int j = 0; i + j <= 400; ++j) {
+        const Vec3 x = a + (b - a) * (i / 400.0) + (c - a) * (j / 400.0);
+        best = std::min(best, (x - p).norm());
+      }
+    EXPECT_NEAR((q - p).norm(), best, 3e-3) << p.transpose();
+  }
+}
+
 TEST(Colliders, MeshSegmentOnlyHitsFacingTriangles) {
   auto mesh = std::make_shared<TriangleMesh>();
   mesh->vertices = {Vec3(-1, 0, -1), Vec3(1, 0, -1), Vec3(1, 0, 1), Vec3(-1, 0, 1)};
   mesh->triangles = {{0, 2, 1}, {0, 3, 2}};  // normal +y
   ASSERT_TRUE(mesh->normal(0).isApprox(Vec3::UnitY()));
-  MeshCollider mc{mesh, std::make_shared<const TriangleGrid>(*mesh, 0.1)};
+  const MeshCollider mc = MeshCollider::build(*mesh, 0.1);
   EXPECT_EQ(mesh_segment_hits(mc, Vec3(0.3, 0.05, 0.1), Vec3(0.3, -0.01, 0.1), 0.001).hits, 1);
   EXPECT_EQ(mesh_segment_hits(mc, Vec3(0.1, -0.05, 0.1), Vec3(0.1, 0.01, 0.1), 0.001).hits, 0);
   EXPECT_EQ(mesh_segment_hits(mc, Vec3(0.1, 0.05, 0.1), Vec3(0.1, 0.02, 0.1), 0.001).hits, 0);
