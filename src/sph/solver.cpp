@@ -53,6 +53,7 @@ SphSolver::SphSolver(Setup setup)
   t_kick_ = timers_.add("kick");
   t_drift_ = timers_.add("drift");
   t_collide_ = timers_.add("collide");
+  t_sort_ = timers_.add("sort");
   t_neigh_ = timers_.add("neighbours");
   t_density_ = timers_.add("density");
   t_pressure_ = timers_.add("pressure");
@@ -119,9 +120,12 @@ void SphSolver::refresh() {
 // ---- phases ------------------------------------------------------------------
 
 void SphSolver::phase_neighbours() {
+  {
+    ScopedPhase t(timers_, t_sort_);
+    search_.sort_order(x_, order_);
+    particles_.permute(order_);
+  }
   ScopedPhase t(timers_, t_neigh_);
-  search_.sort_order(x_, order_);
-  particles_.permute(order_);
   search_.find(x_, lists_);
   parallel_for(x_.size(), [&](std::size_t i) { ncount_[i] = static_cast<std::int32_t>(lists_.count(i)); }, 4096);
 }

@@ -4,7 +4,8 @@
 //   kick      v += ½dt a                                  (leap-frog, 3.4)
 //   drift     x += dt v
 //   collide   walls and meshes                            (Eq 3.31–3.33)
-//   neighbours sort by cell, neighbour lists               (3.1.2)
+//   sort      particles by cell (memory order)
+//   neighbours neighbour lists                             (3.1.2)
 //   density   ρ = Σ m W (+ wall half-space)               (Eq 3.13)
 //   pressure  Tait                                        (Eq 3.17)
 //   forces    pressure, viscosity, artificial viscosity,
@@ -152,7 +153,7 @@ class SphSolver final : public Solver {
   std::vector<std::size_t> body_counts_;
 
   PhaseTimers timers_;
-  int t_kick_, t_drift_, t_collide_, t_neigh_, t_density_, t_pressure_, t_forces_, t_xsph_, t_check_;
+  int t_kick_, t_drift_, t_collide_, t_sort_, t_neigh_, t_density_, t_pressure_, t_forces_, t_xsph_, t_check_;
   Real time_ = 0.0;
   long steps_ = 0;
   std::string dt_bound_ = "cfl";
