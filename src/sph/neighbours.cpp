@@ -45,10 +45,7 @@ void CellGrid::configure(const Aabb& box, Real cell_size) {
 }
 
 void CellGrid::cell_coords(const Vec3& p, int& cx, int& cy, int& cz) const {
-  auto c = [](Real v, int n) {
-    if (!(v >= 0)) return 0;  // also catches NaN
-    return std::min(n - 1, int(v));
-  };
+  auto c = clamp_cell;
   cx = c((p.x() - box_.min.x()) * inv_cell_, nx_);
   cy = c((p.y() - box_.min.y()) * inv_cell_, ny_);
   cz = c((p.z() - box_.min.z()) * inv_cell_, nz_);

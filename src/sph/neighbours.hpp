@@ -17,6 +17,14 @@
 namespace bakesim::sph {
 
 enum class NeighbourMethod { grid, kdtree };
+
+// Cell coordinate of a scaled position, clamped to [0, n); NaN maps to 0 and
+// huge values to n − 1 (a float-to-int conversion out of range is undefined).
+inline int clamp_cell(Real v, int n) {
+  if (!(v >= 0)) return 0;
+  if (v >= Real(n - 1)) return n - 1;
+  return static_cast<int>(v);
+}
 NeighbourMethod parse_neighbour_method(const std::string& s);
 std::string to_string(NeighbourMethod m);
 
@@ -88,7 +96,7 @@ template <class Fn>
 void CellGrid::for_each_within(const Vec3& p, Real radius, Fn&& fn) const {
   // Visit only rows of cells (contiguous in memory after sort()) that the
   // sphere of the given radius touches, clipped in x to the sphere.
-  auto cl = [](Real v, int n) { return v < 0 ? 0 : std::min(n - 1, int(v)); };
+  auto cl = [](Real v, int n) { return clamp_cell(v, n); };
   const int x0 = cl((p.x() - radius - box_.min.x()) * inv_cell_, nx_);
   const int x1 = cl((p.x() + radius - box_.min.x()) * inv_cell_, nx_);
   const int y0 = cl((p.y() - radius - box_.min.y()) * inv_cell_, ny_);

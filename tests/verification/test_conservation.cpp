@@ -6,6 +6,9 @@
 #include <tbb/global_control.h>
 
 #include <cmath>
+#include <limits>
+
+#include "core/errors.hpp"
 
 #include "helpers.hpp"
 
@@ -79,4 +82,26 @@ TEST(Determinism, GridAndKdTreeSearchesAgree) {
   const auto& xb = b->particles().vector("position");
   ASSERT_EQ(xa.size(), xb.size());
   for (std::size_t i = 0; i < xa.size(); ++i) ASSERT_EQ(xa[i], xb[i]) << "particle " << i;
+}
+
+TEST(Health, PlantedNanIsCaughtAtItsStepWithParticleAndQuantity) {
+  auto solver = test_support::make_sph(colliding_blocks("grid"));
+  for (int k = 0; k < 3; ++k) solver->step(solver->max_stable_dt());
+  auto& ps = solver->mutable_particles();
+  const int victim = 17;
+  ps.vector("velocity")[victim].x() = std::numeric_limits<double>::quiet_NaN();
+  const int id = ps.integer("id")[victim];
+  try {
+    solver->step(1e-5);
+    FAIL() << "no error for a NaN velocity";
+  } catch (const SimulationError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("step 4 "), std::string::npos) << msg;  // the fourth step, the one that failed
+    EXPECT_NE(msg.find("non-finite"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("body '"), std::string::npos) << msg;
+    // The NaN spreads to neighbours within the step; the lowest-numbered bad
+    // particle is reported, with its id and quantity.
+    EXPECT_NE(msg.find("particle "), std::string::npos) << msg;
+    (void)id;
+  }
 }
