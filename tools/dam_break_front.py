@@ -27,7 +27,7 @@ def experiment(path):
 
 def main():
     run = sys.argv[1]
-    data_dir = sys.argv[2] if len(sys.argv) > 2 else os.path.join(os.path.dirname(__file__), "..", "..", "shared", "validation-data")
+    data_dir = sys.argv[2] if len(sys.argv) > 2 else os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "validation-data")
     with open(os.path.join(run, "stats.csv")) as f:
         stats = list(csv.DictReader(f))
     scale = math.sqrt(2 * G / A)

@@ -205,11 +205,15 @@ void SphSolver::phase_forces() {
   const Real* p_rho2 = p_over_rho2_.data();
   const Real* vol = volume_.data();
   const Real visc_c = 45.0 / (kPi * std::pow(h, 6));  // Eq 3.8
+  const Real lap_w0 = kernel_.laplacian(0.0);
   parallel_for(x_.size(), [&](std::size_t i) {
     const Vec3 xi = x[i], vi = v[i];
     const Real rhoi = rho[i], pi_rho2 = p_rho2[i], mui = mu[i];
     Vec3 acc_p = Vec3::Zero(), acc_v = Vec3::Zero(), acc_av = Vec3::Zero(), normal = Vec3::Zero();
-    Real lap_c = 0.0;
+    // The colour sums run over all j including i (Eq 3.28); the self term of
+    // the Laplacian is large and negative, without it ∇²C is biased positive
+    // and the force would point outwards.
+    Real lap_c = vol[i] * lap_w0;
     const std::uint32_t* nb = lists_.begin(i);
     const std::uint32_t count = lists_.count(i);
     const float* pr = pair_r_.data() + i * lists_.stride();
