@@ -32,6 +32,17 @@ void expect_same_lists(const NeighbourLists& a, const NeighbourLists& b) {
   }
 }
 
+// Sorts the points by cell as the solver does, then finds neighbours.
+NeighbourLists sort_and_find(NeighbourSearch& search, const std::vector<Vec3>& x, std::vector<Vec3>& sorted) {
+  std::vector<std::uint32_t> order;
+  search.sort_order(x, order);
+  sorted.resize(x.size());
+  for (std::size_t i = 0; i < x.size(); ++i) sorted[i] = x[order[i]];
+  NeighbourLists lists;
+  search.find(sorted, lists);
+  return lists;
+}
+
 class NeighbourMethods : public ::testing::TestWithParam<NeighbourMethod> {};
 
 }  // namespace
@@ -42,12 +53,8 @@ TEST_P(NeighbourMethods, MatchesBruteForceOnRandomSets) {
     const double h = 0.05 + 0.01 * seed;
     std::vector<Vec3> x = random_points(3000, domain, seed);
     NeighbourSearch search(GetParam(), domain, h);
-    std::vector<std::uint32_t> order;
-    search.sort_order(x, order);
-    std::vector<Vec3> sorted(x.size());
-    for (std::size_t i = 0; i < x.size(); ++i) sorted[i] = x[order[i]];
-    NeighbourLists lists;
-    search.find(sorted, lists);
+    std::vector<Vec3> sorted;
+    const NeighbourLists lists = sort_and_find(search, x, sorted);
     expect_same_lists(lists, brute_force_neighbours(sorted, h));
     // Lists are in ascending order, so sums do not depend on the method.
     for (std::size_t i = 0; i < lists.size(); ++i) EXPECT_TRUE(std::is_sorted(lists.begin(i), lists.end(i)));
@@ -60,12 +67,8 @@ TEST_P(NeighbourMethods, HandlesPointsOutsideTheDomainAndDenseClusters) {
   // A dense cluster forces the list stride to grow.
   for (int i = 0; i < 400; ++i) x.push_back(Vec3(0.5, 0.5, 0.5) + 1e-4 * Vec3(i % 7, i % 11, i % 13));
   NeighbourSearch search(GetParam(), domain, 0.1);
-  std::vector<std::uint32_t> order;
-  search.sort_order(x, order);
-  std::vector<Vec3> sorted(x.size());
-  for (std::size_t i = 0; i < x.size(); ++i) sorted[i] = x[order[i]];
-  NeighbourLists lists;
-  search.find(sorted, lists);
+  std::vector<Vec3> sorted;
+  const NeighbourLists lists = sort_and_find(search, x, sorted);
   expect_same_lists(lists, brute_force_neighbours(sorted, 0.1));
   EXPECT_GE(lists.max_count(), 399u);
 }
