@@ -25,15 +25,13 @@ SphSolver::SphSolver(Setup setup)
       search_(setup_.settings.search, setup_.domain, h_),
       x_(particles_.add_vector("position", "m")),
       v_(particles_.add_vector("velocity", "m/s")),
-      a_(particles_.add_vector("acceleration", "m/s^2", false)),
-      x_prev_(particles_.add_vector("previous_position", "m", false)),
-      dv_(particles_.add_vector("xsph_correction", "m/s", false)),
+      a_(particles_.add_vector("acceleration", "m/s^2")),
       rho_(particles_.add_scalar("density", "kg/m^3")),
       p_(particles_.add_scalar("pressure", "Pa")),
       m_(particles_.add_scalar("mass", "kg")),
       temperature_(particles_.add_scalar("temperature", "degC")),
       mu_(particles_.add_scalar("viscosity", "Pa*s")),
-      eps_(particles_.add_scalar("xsph_epsilon", "", false)),
+      eps_(particles_.add_scalar("xsph_epsilon", "")),
       material_(particles_.add_int("material_id")),
       body_(particles_.add_int("body_id")),
       id_(particles_.add_int("id")),
@@ -88,6 +86,8 @@ void SphSolver::seed_particles() {
   if (total > std::size_t(std::numeric_limits<std::int32_t>::max()))
     throw InputError("solver.sph.spacing", "too many particles");
   particles_.resize(total);
+  x_prev_.resize(total);
+  dv_.resize(total);
   std::size_t k = 0;
   for (std::size_t bi = 0; bi < setup_.bodies.size(); ++bi) {
     const Body& b = setup_.bodies[bi];

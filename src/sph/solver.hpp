@@ -132,8 +132,6 @@ class SphSolver final : public Solver {
   std::vector<Vec3>& x_;
   std::vector<Vec3>& v_;
   std::vector<Vec3>& a_;
-  std::vector<Vec3>& x_prev_;
-  std::vector<Vec3>& dv_;
   std::vector<Real>& rho_;
   std::vector<Real>& p_;
   std::vector<Real>& m_;
@@ -145,6 +143,10 @@ class SphSolver final : public Solver {
   std::vector<std::int32_t>& id_;
   std::vector<std::int32_t>& ncount_;
   std::vector<std::uint32_t> order_;
+  // Per-step scratch, valid only within the phases that fill them (not in
+  // the registry, so sorting does not move them).
+  std::vector<Vec3> x_prev_;  // position before the drift, for mesh collisions
+  std::vector<Vec3> dv_;      // XSPH correction
   std::vector<Real> p_over_rho2_;  // P/ρ², per particle (pressure phase)
   std::vector<Real> volume_;       // m/ρ, per particle (pressure phase)
   // Per neighbour pair, in the layout of lists_ (computed by the density
