@@ -84,15 +84,20 @@ void NeighbourSearch::fill(std::size_t n, NeighbourLists& lists, Query&& query) 
   lists.count_.assign(n, 0);
   for (;;) {
     lists.ids_.resize(n * lists.stride_);
+    lists.dist_.resize(n * lists.stride_);
     std::atomic<std::size_t> overflow{0};
     const std::size_t stride = lists.stride_;
     parallel_blocks(n, [&](std::size_t b, std::size_t e) {
       std::size_t local_max = 0;
       for (std::size_t i = b; i < e; ++i) {
         std::uint32_t* out = lists.ids_.data() + i * stride;
+        float* out_d = lists.dist_.data() + i * stride;
         std::size_t c = 0;
-        query(i, [&](std::uint32_t j) {
-          if (c < stride) out[c] = j;
+        query(i, [&](std::uint32_t j, Real d2) {
+          if (c < stride) {
+            out[c] = j;
+            out_d[c] = static_cast<float>(std::sqrt(d2));
+          }
           ++c;
         });
         lists.count_[i] = static_cast<std::uint32_t>(std::min(c, stride));
@@ -131,7 +136,7 @@ struct ForwardingResultSet {
   bool full() const { return true; }
   bool addPoint(Real dist, std::uint32_t index) {
     if (dist < radius2 && index != self) {
-      fn(index);
+      fn(index, dist);
       ++found;
     }
     return true;
@@ -148,23 +153,22 @@ void NeighbourSearch::find(const std::vector<Vec3>& x, NeighbourLists& lists) {
       const Vec3 xi = x[i];
       // Branch-free candidate test into a local buffer: about a third of the
       // candidates are neighbours, so a branch here mispredicts often.
-      constexpr std::size_t kBuf = 2048;
+      constexpr std::size_t kBuf = 1024;
       std::uint32_t buf[kBuf];
+      Real buf_d2[kBuf];
       std::size_t c = 0;
-      bool overflow = false;
       grid_.for_each_within(xi, h_, [&](std::uint32_t j) {
-        const Vec3 d = x[j] - xi;
+        const Vec3 d = xi - x[j];
         const Real d2 = d.squaredNorm();
         buf[c] = j;
+        buf_d2[c] = d2;
         c += static_cast<std::size_t>((d2 < h2) & (j != i));
         if (c == kBuf) {
-          for (std::size_t k = 0; k < c; ++k) emit(buf[k]);
+          for (std::size_t k = 0; k < c; ++k) emit(buf[k], buf_d2[k]);
           c = 0;
-          overflow = true;
         }
       });
-      (void)overflow;
-      for (std::size_t k = 0; k < c; ++k) emit(buf[k]);
+      for (std::size_t k = 0; k < c; ++k) emit(buf[k], buf_d2[k]);
     });
   } else {
     PointCloud cloud{x};
@@ -174,9 +178,20 @@ void NeighbourSearch::find(const std::vector<Vec3>& x, NeighbourLists& lists) {
       ForwardingResultSet<std::remove_reference_t<decltype(emit)>> rs{h2, static_cast<std::uint32_t>(i), emit};
       tree.findNeighbors(rs, x[i].data(), nanoflann::SearchParams(32, 0, false));
     });
-    // Sort each list so the summation order matches the grid search's.
-    parallel_for(n, [&](std::size_t i) {
-      std::sort(lists.ids_.data() + i * lists.stride_, lists.ids_.data() + i * lists.stride_ + lists.count_[i]);
+    // Sort each list (with its distances) so the summation order matches the grid search's.
+    parallel_blocks(n, [&](std::size_t b, std::size_t e) {
+      std::vector<std::pair<std::uint32_t, float>> pairs;
+      for (std::size_t i = b; i < e; ++i) {
+        std::uint32_t* ids = lists.ids_.data() + i * lists.stride_;
+        float* dist = lists.dist_.data() + i * lists.stride_;
+        pairs.clear();
+        for (std::uint32_t k = 0; k < lists.count_[i]; ++k) pairs.emplace_back(ids[k], dist[k]);
+        std::sort(pairs.begin(), pairs.end());
+        for (std::uint32_t k = 0; k < lists.count_[i]; ++k) {
+          ids[k] = pairs[k].first;
+          dist[k] = pairs[k].second;
+        }
+      }
     });
   }
 }
@@ -195,6 +210,7 @@ NeighbourLists NeighbourLists::from_lists(const std::vector<std::vector<std::uin
   for (const auto& l : lists) out.stride_ = std::max(out.stride_, l.size());
   out.count_.resize(lists.size());
   out.ids_.assign(lists.size() * out.stride_, 0);
+  out.dist_.assign(lists.size() * out.stride_, 0.0f);  // not known here
   for (std::size_t i = 0; i < lists.size(); ++i) {
     out.count_[i] = static_cast<std::uint32_t>(lists[i].size());
     std::copy(lists[i].begin(), lists[i].end(), out.ids_.begin() + i * out.stride_);

@@ -4,7 +4,7 @@
 //    sort), so each 3×3×3 block is nine contiguous runs of memory;
 //  - a kd-tree (nanoflann).
 // Lists hold, for each particle, the indices of the other particles closer
-// than h (self excluded), in ascending index order, in a fixed stride that
+// than h (self excluded) and their distances, in ascending index order, in a fixed stride that
 // grows when needed. The grid's cells are h/2 wide: fewer candidates per
 // particle than h-wide cells.
 #include <algorithm>
@@ -33,6 +33,8 @@ class NeighbourLists {
   std::uint32_t count(std::size_t i) const { return count_[i]; }
   const std::uint32_t* begin(std::size_t i) const { return ids_.data() + i * stride_; }
   const std::uint32_t* end(std::size_t i) const { return begin(i) + count_[i]; }
+  // Distances |x_i − x_j| of the same pairs, in the same order.
+  const float* distances(std::size_t i) const { return dist_.data() + i * stride_; }
   std::size_t size() const { return count_.size(); }
   std::size_t stride() const { return stride_; }
   std::size_t max_count() const;
@@ -42,6 +44,7 @@ class NeighbourLists {
  private:
   friend class NeighbourSearch;
   std::vector<std::uint32_t> ids_;
+  std::vector<float> dist_;
   std::vector<std::uint32_t> count_;
   std::size_t stride_ = 64;
 };

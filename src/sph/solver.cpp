@@ -139,27 +139,23 @@ void SphSolver::phase_density() {
   const Vec3* x = x_.data();
   const Real* m = m_.data();
   const std::size_t stride = lists_.stride();
-  pair_r_.resize(x_.size() * stride);
   pair_w_.resize(x_.size() * stride);
   pair_dwr_.resize(x_.size() * stride);
   parallel_for(x_.size(), [&](std::size_t i) {
-    const Vec3 xi = x[i];
     Real rho = m[i] * w0;
     const std::uint32_t* nb = lists_.begin(i);
     const std::uint32_t count = lists_.count(i);
-    float* pr = pair_r_.data() + i * stride;
+    const float* pr = lists_.distances(i);
     float* pw = pair_w_.data() + i * stride;
     float* pd = pair_dwr_.data() + i * stride;
     for (std::uint32_t k = 0; k < count; ++k) {
-      const std::uint32_t j = nb[k];
-      const Real r = (xi - x[j]).norm();
+      const Real r = pr[k];
       const Real w = kernel_.w(r);
-      rho += m[j] * w;
-      pr[k] = static_cast<float>(r);
+      rho += m[nb[k]] * w;
       pw[k] = static_cast<float>(w);
       pd[k] = static_cast<float>(r > 0 ? kernel_.dw_dr_over_r(r) : 0.0);
     }
-    if (wall_corr) rho += setup_.materials[material_[i]].rest_density * wall_share(xi, nullptr);
+    if (wall_corr) rho += setup_.materials[material_[i]].rest_density * wall_share(x[i], nullptr);
     rho_[i] = rho;
   });
 }
@@ -216,7 +212,7 @@ void SphSolver::phase_forces() {
     Real lap_c = vol[i] * lap_w0;
     const std::uint32_t* nb = lists_.begin(i);
     const std::uint32_t count = lists_.count(i);
-    const float* pr = pair_r_.data() + i * lists_.stride();
+    const float* pr = lists_.distances(i);
     const float* pd = pair_dwr_.data() + i * lists_.stride();
     for (std::uint32_t k = 0; k < count; ++k) {
       const std::uint32_t j = nb[k];

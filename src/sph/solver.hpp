@@ -150,8 +150,8 @@ class SphSolver final : public Solver {
   std::vector<Real> p_over_rho2_;  // P/ρ², per particle (pressure phase)
   std::vector<Real> volume_;       // m/ρ, per particle (pressure phase)
   // Per neighbour pair, in the layout of lists_ (computed by the density
-  // phase, valid until positions change): r, W(r) and W'(r)/r.
-  std::vector<float> pair_r_, pair_w_, pair_dwr_;
+  // phase, valid until positions change): W(r) and W'(r)/r.
+  std::vector<float> pair_w_, pair_dwr_;
   std::vector<std::size_t> body_counts_;
 
   PhaseTimers timers_;
