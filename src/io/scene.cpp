@@ -215,6 +215,7 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::s
     body.shape = build_shape(c, path + ".shape", b["shape"]);
     body.temperature = b["temperature"].get<double>();
     body.velocity = vec3(b["velocity"]);
+    body.hold_temperature = b["hold_temperature"].get<bool>();
     max_initial_speed = std::max(max_initial_speed, body.velocity.norm());
     setup.bodies.push_back(std::move(body));
   }
@@ -230,6 +231,8 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::s
   st.av_beta = sj["artificial_viscosity"]["beta"].get<double>();
   st.av_epsilon = sj["artificial_viscosity"]["epsilon"].get<double>();
   st.surface_threshold = sj["surface_threshold"].get<double>();
+  st.heat_conduction = sj["heat_conduction"].get<bool>();
+  st.conduction_factor = sj["conduction_factor"].get<double>();
   st.viscous_factor = sj["viscous_factor"].get<double>();
   st.force_factor = sj["force_factor"].get<double>();
   st.cfl = doc["solver"]["cfl"].get<double>();

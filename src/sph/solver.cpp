@@ -57,6 +57,7 @@ SphSolver::SphSolver(Setup setup)
   t_pressure_ = timers_.add("pressure");
   t_forces_ = timers_.add("forces");
   t_xsph_ = timers_.add("xsph");
+  t_heat_ = timers_.add("heat");
   t_check_ = timers_.add("check");
 
   seed_particles();
@@ -88,6 +89,7 @@ void SphSolver::seed_particles() {
   particles_.resize(total);
   x_prev_.resize(total);
   dv_.resize(total);
+  dtemp_.resize(total);
   std::size_t k = 0;
   for (std::size_t bi = 0; bi < setup_.bodies.size(); ++bi) {
     const Body& b = setup_.bodies[bi];
@@ -360,6 +362,37 @@ void SphSolver::phase_xsph() {
   parallel_for(x_.size(), [&](std::size_t i) { v_[i] += dv_[i]; }, 4096);
 }
 
+// Eq 3.45–3.46: ρ c_p dT/dt = ∇·(k∇T). The kernel Laplacian of Eq 3.46
+// changes sign inside the support (heat could flow from cold to hot for close
+// pairs), so the Laplacian is taken in the Cleary–Monaghan form
+//   (∇·k∇T)_i = Σ_j V_j (k_i + k_j)(T_i − T_j) x_ij·∇W_ij / (r² + η²),
+// which is always diffusive and exchanges heat pairwise (energy is conserved).
+void SphSolver::phase_heat(Real dt) {
+  if (!setup_.settings.heat_conduction) return;
+  ScopedPhase t(timers_, t_heat_);
+  const Real eta2 = 0.01 * h_ * h_;
+  const Real* temp = temperature_.data();
+  const Real* vol = volume_.data();
+  parallel_for(x_.size(), [&](std::size_t i) {
+    const Material& mi = setup_.materials[material_[i]];
+    const Real ti = temp[i], ki = mi.conductivity;
+    const std::uint32_t* nb = lists_.begin(i);
+    const std::uint32_t count = lists_.count(i);
+    const float* pr = lists_.distances(i);
+    const float* pd = pair_dwr_.data() + i * lists_.stride();
+    Real sum = 0;
+    for (std::uint32_t k = 0; k < count; ++k) {
+      const std::uint32_t j = nb[k];
+      const Real r = pr[k];
+      // x_ij·∇W = r² W'(r)/r
+      const Real kj = setup_.materials[material_[j]].conductivity;
+      sum += vol[j] * (ki + kj) * (ti - temp[j]) * (Real(pd[k]) * r * r) / (r * r + eta2);
+    }
+    dtemp_[i] = setup_.bodies[body_[i]].hold_temperature ? 0.0 : dt * sum / (rho_[i] * mi.specific_heat);
+  });
+  parallel_for(x_.size(), [&](std::size_t i) { temperature_[i] += dtemp_[i]; }, 4096);
+}
+
 void SphSolver::check_finite() {
   ScopedPhase t(timers_, t_check_);
   const std::size_t n = x_.size();
@@ -367,13 +400,15 @@ void SphSolver::check_finite() {
       n, n,
       [&](std::size_t b, std::size_t e) {
         for (std::size_t i = b; i < e; ++i)
-          if (!x_[i].allFinite() || !v_[i].allFinite() || !std::isfinite(rho_[i]) || !std::isfinite(p_[i])) return i;
+          if (!x_[i].allFinite() || !v_[i].allFinite() || !std::isfinite(rho_[i]) || !std::isfinite(p_[i]) ||
+              !std::isfinite(temperature_[i]))
+            return i;
         return n;
       },
       [](std::size_t a, std::size_t b) { return std::min(a, b); });
   if (bad == n) return;
   std::string quantity = !x_[bad].allFinite() ? "position" : !v_[bad].allFinite() ? "velocity"
-                         : !std::isfinite(rho_[bad]) ? "density" : "pressure";
+                         : !std::isfinite(rho_[bad]) ? "density" : !std::isfinite(p_[bad]) ? "pressure" : "temperature";
   throw SimulationError(fmt::format(
       "SPH step {} (t = {:.6g} s): particle {} of body '{}' has a non-finite {} "
       "(density {:.6g} kg/m^3, pressure {:.6g} Pa, {} neighbours)",
@@ -407,6 +442,12 @@ std::vector<std::pair<std::string, Real>> SphSolver::time_step_bounds() const {
   bounds.emplace_back("cfl", s.cfl * hs / (s.speed_of_sound + std::sqrt(e.v2)));
   if (e.nu > 0) bounds.emplace_back("viscosity", s.viscous_factor * hs * hs / e.nu);
   if (e.a2 > 0) bounds.emplace_back("force", s.force_factor * std::sqrt(hs / std::sqrt(e.a2)));
+  if (s.heat_conduction) {
+    Real alpha = 0;  // thermal diffusivity k / (ρ c_p), largest over materials
+    for (const Material& m : setup_.materials)
+      alpha = std::max(alpha, m.conductivity / (m.rest_density * m.specific_heat));
+    if (alpha > 0) bounds.emplace_back("conduction", s.conduction_factor * hs * hs / alpha);
+  }
   return bounds;
 }
 
@@ -431,6 +472,7 @@ void SphSolver::step(Real dt) {
   phase_forces();
   phase_kick(dt);
   phase_xsph();
+  phase_heat(dt);
   time_ += dt;
   ++steps_;
   check_finite();

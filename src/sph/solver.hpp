@@ -12,6 +12,7 @@
 //             surface tension, gravity                     (Eq 3.18, 3.19, 3.35–3.41, 3.28–3.30)
 //   kick      v += ½dt a
 //   xsph      velocity correction                          (Eq 3.34)
+//   heat      conduction between particles                 (Eq 3.45–3.46)
 #include <memory>
 #include <string>
 #include <vector>
@@ -42,6 +43,7 @@ struct Body {
   Shape shape;
   Real temperature = 20.0;  // °C
   Vec3 velocity = Vec3::Zero();
+  bool hold_temperature = false;  // a thermostat: conducts, but keeps its temperature
 };
 
 struct Settings {
@@ -55,6 +57,8 @@ struct Settings {
   Real av_alpha = 0.0, av_beta = 1.0, av_epsilon = 0.01;  // Eq 3.36–3.37
   Real surface_threshold = 0.1;  // |∇C| · h above which surface tension acts (Eq 3.30)
   Real cfl = 0.4;
+  bool heat_conduction = true;
+  Real conduction_factor = 0.1;
   Real viscous_factor = 0.125;
   Real force_factor = 0.25;
   Real max_dt = 1e-3;
@@ -109,6 +113,7 @@ class SphSolver final : public Solver {
   void phase_drift(Real dt);
   void phase_collide();
   void phase_xsph();
+  void phase_heat(Real dt);
   void check_finite();
   // Share of particle i's kernel beyond all analytic walls, 1 − Π(1 − f_k),
   // and its gradient (walls combined as independent events, exact for a
@@ -147,6 +152,7 @@ class SphSolver final : public Solver {
   // the registry, so sorting does not move them).
   std::vector<Vec3> x_prev_;  // position before the drift, for mesh collisions
   std::vector<Vec3> dv_;      // XSPH correction
+  std::vector<Real> dtemp_;   // temperature change of the heat phase
   std::vector<Real> p_over_rho2_;  // P/ρ², per particle (pressure phase)
   std::vector<Real> volume_;       // m/ρ, per particle (pressure phase)
   // Per neighbour pair, in the layout of lists_ (computed by the density
@@ -155,7 +161,7 @@ class SphSolver final : public Solver {
   std::vector<std::size_t> body_counts_;
 
   PhaseTimers timers_;
-  int t_kick_, t_drift_, t_collide_, t_sort_, t_neigh_, t_density_, t_pressure_, t_forces_, t_xsph_, t_check_;
+  int t_kick_, t_drift_, t_collide_, t_sort_, t_neigh_, t_density_, t_pressure_, t_forces_, t_xsph_, t_heat_, t_check_;
   Real time_ = 0.0;
   long steps_ = 0;
   std::string dt_bound_ = "cfl";
