@@ -370,6 +370,21 @@ void SphSolver::phase_xsph() {
 void SphSolver::phase_heat(Real dt) {
   if (!setup_.settings.heat_conduction) return;
   ScopedPhase t(timers_, t_heat_);
+  // Nothing flows in an isothermal state (a common case: water at room temperature).
+  const auto range = deterministic_reduce(
+      x_.size(), std::pair<Real, Real>{std::numeric_limits<Real>::infinity(), -std::numeric_limits<Real>::infinity()},
+      [&](std::size_t b, std::size_t e) {
+        std::pair<Real, Real> r{std::numeric_limits<Real>::infinity(), -std::numeric_limits<Real>::infinity()};
+        for (std::size_t i = b; i < e; ++i) {
+          r.first = std::min(r.first, temperature_[i]);
+          r.second = std::max(r.second, temperature_[i]);
+        }
+        return r;
+      },
+      [](std::pair<Real, Real> a, std::pair<Real, Real> b) {
+        return std::pair<Real, Real>{std::min(a.first, b.first), std::max(a.second, b.second)};
+      });
+  if (!(range.second > range.first)) return;
   const Real eta2 = 0.01 * h_ * h_;
   const Real* temp = temperature_.data();
   const Real* vol = volume_.data();
