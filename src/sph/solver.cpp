@@ -62,6 +62,34 @@ SphSolver::SphSolver(Setup setup)
 
   seed_particles();
   refresh();
+  check_initial_overlaps();
+}
+
+// Bodies that overlap put particles on top of each other (an explosion at the
+// first step), and bodies inside a solid collider are pushed out violently:
+// both are input errors, named here.
+void SphSolver::check_initial_overlaps() const {
+  const Real min_gap = 0.5 * setup_.settings.spacing;
+  for (std::size_t i = 0; i < x_.size(); ++i) {
+    const float* dist = lists_.distances(i);
+    const std::uint32_t* nb = lists_.begin(i);
+    for (std::uint32_t k = 0; k < lists_.count(i); ++k)
+      if (dist[k] < min_gap && body_[nb[k]] != body_[i]) {
+        const Body& a = setup_.bodies[std::min(body_[i], body_[nb[k]])];
+        const Body& b = setup_.bodies[std::max(body_[i], body_[nb[k]])];
+        throw InputError(b.source, fmt::format("body '{}' overlaps body '{}' near [{:.4g}, {:.4g}, {:.4g}]; bodies "
+                                               "must not share space (use a union shape for one body)",
+                                               b.name, a.name, x_[i].x(), x_[i].y(), x_[i].z()));
+      }
+  }
+  for (std::size_t c = 1; c < walls_.size(); ++c)  // walls_[0] is the domain, checked when seeding
+    for (std::size_t i = 0; i < x_.size(); ++i)
+      for_each_wall(walls_[c].geometry, x_[i], 0.0, [&](const WallContact& w) {
+        if (w.distance < 0)
+          throw InputError(setup_.bodies[body_[i]].source,
+                           fmt::format("body '{}' starts inside collider '{}' (particle at [{:.4g}, {:.4g}, {:.4g}])",
+                                       setup_.bodies[body_[i]].name, walls_[c].name, x_[i].x(), x_[i].y(), x_[i].z()));
+      });
 }
 
 Real SphSolver::particle_mass(int material) const { return mass_.at(material); }

@@ -105,6 +105,7 @@ class SphSolver final : public Solver {
 
  private:
   void seed_particles();
+  void check_initial_overlaps() const;
   void phase_neighbours();
   void phase_density();
   void phase_pressure();

@@ -154,6 +154,26 @@ TEST(Scene, BodyWithoutParticlesIsReported) {
   }
 }
 
+TEST(Scene, OverlappingBodiesAndBodiesInsideCollidersAreReported) {
+  json d = base_scene();
+  d["bodies"].push_back({{"name", "ball"}, {"material", "water"},
+                         {"shape", {{"type", "sphere"}, {"center", {0.08, 0.08, 0.08}}, {"radius", 0.03}}}});
+  try {
+    make_solver(parse_scene(d.dump(), "scene.json", "."));
+    FAIL() << "expected an overlap error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("bodies[1]: body 'ball' overlaps body 'block'"), std::string::npos) << e.what();
+  }
+  json c = base_scene();
+  c["colliders"] = json::array({{{"name", "shelf"}, {"shape", {{"type", "box"}, {"min", {0.0, 0.0, 0.0}}, {"max", {0.2, 0.03, 0.2}}}}}});
+  try {
+    make_solver(parse_scene(c.dump(), "scene.json", "."));
+    FAIL() << "expected an inside-collider error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("body 'block' starts inside collider 'shelf'"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Scene, ClosestMatch) {
   EXPECT_EQ(closest_match("raduis", {"type", "center", "radius"}), "radius");
   EXPECT_EQ(closest_match("zzzzzz", {"type", "center", "radius"}), "");
