@@ -16,6 +16,13 @@ int PhaseTimers::add(const std::string& name) {
 
 double PhaseTimers::total() const { return std::accumulate(seconds_.begin(), seconds_.end(), 0.0); }
 
+PhaseTimers PhaseTimers::since(const PhaseTimers& earlier) const {
+  PhaseTimers out = *this;
+  for (std::size_t i = 0; i < out.seconds_.size() && i < earlier.seconds_.size(); ++i)
+    out.seconds_[i] -= earlier.seconds_[i];
+  return out;
+}
+
 void PhaseTimers::reset() { std::fill(seconds_.begin(), seconds_.end(), 0.0); }
 
 std::string PhaseTimers::report(long steps) const {

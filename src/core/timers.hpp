@@ -16,6 +16,8 @@ class PhaseTimers {
   const std::vector<double>& seconds() const { return seconds_; }
   double total() const;
   void reset();
+  // The time spent since `earlier` (a copy taken before), phase by phase.
+  PhaseTimers since(const PhaseTimers& earlier) const;
   std::string report(long steps) const;
 
  private:

@@ -8,8 +8,6 @@ namespace bakesim {
 using Real = double;
 using Vec3 = Eigen::Matrix<Real, 3, 1>;
 using Mat3 = Eigen::Matrix<Real, 3, 3>;
-using Vec3f = Eigen::Matrix<float, 3, 1>;
-using Index = std::int64_t;
 
 struct Aabb {
   Vec3 min = Vec3::Constant(0.0);

@@ -274,9 +274,6 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::s
     sc.probes.push_back(std::move(p));
   }
 
-  for (const json& f : doc["output"]["particles"]) {
-    (void)f;
-  }
   const auto formats = doc["output"]["particles"].get<std::vector<std::string>>();
   sc.output.ply = std::find(formats.begin(), formats.end(), "ply") != formats.end();
   sc.output.vtu = std::find(formats.begin(), formats.end(), "vtu") != formats.end();
