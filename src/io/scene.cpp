@@ -106,6 +106,23 @@ void check_unique_names(const Ctx& c, const json& list, const std::string& key) 
   }
 }
 
+TemperatureCurve build_curve(const Ctx& c, const std::string& path, const json& j) {
+  if (j.is_number()) return ConstantCurve{j.get<double>()};
+  const std::string kind = j["curve"].get<std::string>();
+  if (kind == "zhang_arctan")
+    return ZhangArctan{j["scale"].get<double>(), j["centre"].get<double>(), j["width"].get<double>(),
+                       j["offset"].get<double>()};
+  std::vector<std::pair<Real, Real>> pts;
+  for (std::size_t i = 0; i < j["points"].size(); ++i) {
+    const Real t = j["points"][i][0].get<double>(), v = j["points"][i][1].get<double>();
+    if (!pts.empty() && !(t > pts.back().first))
+      c.fail(fmt::format("{}.points[{}]", path, i), "temperatures must increase strictly");
+    if (v < 0) c.fail(fmt::format("{}.points[{}]", path, i), "values must be >= 0");
+    pts.emplace_back(t, v);
+  }
+  return PiecewiseLinear(pts);
+}
+
 PiecewiseLinear build_schedule(const Ctx& c, const std::string& path, const json& j) {
   if (j.is_number()) return PiecewiseLinear::constant(j.get<double>());
   std::vector<std::pair<Real, Real>> pts;
@@ -183,9 +200,9 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::s
     sph::Material mat;
     mat.name = it.key();
     mat.rest_density = m["density"].get<double>();
-    mat.viscosity = m["viscosity"].get<double>();
+    mat.viscosity = build_curve(c, "materials." + it.key() + ".viscosity", m["viscosity"]);
     mat.surface_tension = m["surface_tension"].get<double>();
-    mat.xsph = m["xsph"].get<double>();
+    mat.xsph = build_curve(c, "materials." + it.key() + ".xsph", m["xsph"]);
     mat.specific_heat = m["specific_heat"].get<double>();
     mat.conductivity = m["conductivity"].get<double>();
     setup.materials.push_back(mat);

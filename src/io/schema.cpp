@@ -115,24 +115,31 @@ void SchemaValidator::check(json& value, const json& schema_in, const std::strin
 
   if (s.contains("oneOf")) {
     const json& alts = s["oneOf"];
-    // Alternatives that are objects told apart by a constant "type" key.
+    // Alternatives that are objects told apart by a constant-valued key
+    // ("type" for shapes, "curve" for curves): find that key.
+    std::string key;
     std::vector<std::string> kinds;
     for (const json& a : alts) {
       const json& r = resolve(a);
-      if (r.contains("properties") && r["properties"].contains("type") && r["properties"]["type"].contains("const"))
-        kinds.push_back(r["properties"]["type"]["const"].get<std::string>());
+      if (!r.contains("properties")) break;
+      std::string found;
+      for (auto it = r["properties"].begin(); it != r["properties"].end(); ++it)
+        if (it.value().contains("const")) found = it.key();
+      if (found.empty() || (!key.empty() && found != key)) break;
+      key = found;
+      kinds.push_back(r["properties"][key]["const"].get<std::string>());
     }
-    if (!kinds.empty() && kinds.size() == alts.size()) {
+    if (!key.empty() && kinds.size() == alts.size()) {
       if (!value.is_object()) fail("expected an object, got " + describe(value));
-      if (!value.contains("type"))
-        fail(fmt::format("missing required key 'type' (one of: {})", fmt::join(kinds, ", ")));
-      if (!value["type"].is_string()) throw InputError(file + ": " + join_path(path, "type"), "expected a string, got " + describe(value["type"]));
-      const std::string kind = value["type"].get<std::string>();
+      if (!value.contains(key))
+        fail(fmt::format("missing required key '{}' (one of: {})", key, fmt::join(kinds, ", ")));
+      if (!value[key].is_string()) throw InputError(file + ": " + join_path(path, key), "expected a string, got " + describe(value[key]));
+      const std::string kind = value[key].get<std::string>();
       for (std::size_t i = 0; i < kinds.size(); ++i)
         if (kinds[i] == kind) return check(value, alts[i], path, file);
       const std::string near = closest_match(kind, kinds);
-      throw InputError(file + ": " + join_path(path, "type"),
-                       fmt::format("unknown type \"{}\"{}; allowed: {}", kind, near.empty() ? "" : "; did you mean \"" + near + "\"?",
+      throw InputError(file + ": " + join_path(path, key),
+                       fmt::format("unknown {} \"{}\"{}; allowed: {}", key, kind, near.empty() ? "" : "; did you mean \"" + near + "\"?",
                                    fmt::join(kinds, ", ")));
     }
     std::vector<std::string> wanted;
@@ -350,7 +357,10 @@ std::string SchemaValidator::markdown_reference() const {
     if (d.contains("oneOf")) {
       for (const json& a : d["oneOf"]) {
         const json& r = resolve(a);
-        w.out += "### type `" + r["properties"]["type"]["const"].get<std::string>() + "`\n\n";
+        std::string key;
+        for (auto pit = r["properties"].begin(); pit != r["properties"].end(); ++pit)
+          if (pit.value().contains("const")) key = pit.key();
+        w.out += "### " + key + " `" + r["properties"][key]["const"].get<std::string>() + "`\n\n";
         w.table(r);
       }
     } else {

@@ -58,6 +58,7 @@ SphSolver::SphSolver(Setup setup)
   t_forces_ = timers_.add("forces");
   t_xsph_ = timers_.add("xsph");
   t_heat_ = timers_.add("heat");
+  t_properties_ = timers_.add("properties");
   t_check_ = timers_.add("check");
 
   seed_particles();
@@ -130,8 +131,8 @@ void SphSolver::seed_particles() {
       m_[k] = mass_[b.material];
       rho_[k] = mat.rest_density;
       temperature_[k] = b.temperature;
-      mu_[k] = mat.viscosity;
-      eps_[k] = std::clamp(mat.xsph, 0.0, 1.0);
+      mu_[k] = evaluate(mat.viscosity, b.temperature);
+      eps_[k] = std::clamp(evaluate(mat.xsph, b.temperature), 0.0, 1.0);
       material_[k] = b.material;
       body_[k] = static_cast<std::int32_t>(bi);
       id_[k] = static_cast<std::int32_t>(k);
@@ -371,7 +372,8 @@ void SphSolver::phase_collide() {
 void SphSolver::phase_xsph() {
   ScopedPhase t(timers_, t_xsph_);
   bool any = false;
-  for (const Material& m : setup_.materials) any |= m.xsph > 0;
+  for (const Material& m : setup_.materials)
+    any |= !is_constant(m.xsph) || std::get<ConstantCurve>(m.xsph).value > 0;
   if (!any) return;
   const Vec3* v = v_.data();
   parallel_for(x_.size(), [&](std::size_t i) {
@@ -434,6 +436,29 @@ void SphSolver::phase_heat(Real dt) {
     dtemp_[i] = setup_.bodies[body_[i]].hold_temperature ? 0.0 : dt * sum / (rho_[i] * mi.specific_heat);
   });
   parallel_for(x_.size(), [&](std::size_t i) { temperature_[i] += dtemp_[i]; }, 4096);
+}
+
+// Eq 4.1 and 4.4: viscosity and XSPH tuner follow each particle's temperature.
+// The curve is visited once per material; the particle loop sees a plain
+// callable.
+void SphSolver::phase_properties() {
+  ScopedPhase t(timers_, t_properties_);
+  for (std::size_t mi = 0; mi < setup_.materials.size(); ++mi) {
+    const Material& mat = setup_.materials[mi];
+    const int id = static_cast<int>(mi);
+    if (!is_constant(mat.viscosity))
+      std::visit([&](const auto& curve) {
+        parallel_for(x_.size(), [&](std::size_t i) {
+          if (material_[i] == id) mu_[i] = curve(temperature_[i]);
+        }, 4096);
+      }, mat.viscosity);
+    if (!is_constant(mat.xsph))
+      std::visit([&](const auto& curve) {
+        parallel_for(x_.size(), [&](std::size_t i) {
+          if (material_[i] == id) eps_[i] = std::clamp(curve(temperature_[i]), 0.0, 1.0);
+        }, 4096);
+      }, mat.xsph);
+  }
 }
 
 void SphSolver::check_finite() {
@@ -516,6 +541,7 @@ void SphSolver::step(Real dt) {
   phase_kick(dt);
   phase_xsph();
   phase_heat(dt);
+  phase_properties();
   time_ += dt;
   ++steps_;
   check_finite();

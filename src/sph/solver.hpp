@@ -13,6 +13,7 @@
 //   kick      v += ½dt a
 //   xsph      velocity correction                          (Eq 3.34)
 //   heat      conduction between particles                 (Eq 3.45–3.46)
+//   properties temperature-dependent μ and ε               (Eq 4.1, 4.4)
 #include <memory>
 #include <string>
 #include <vector>
@@ -21,6 +22,7 @@
 #include "core/solver.hpp"
 #include "geometry/colliders.hpp"
 #include "geometry/shapes.hpp"
+#include "physics/curves.hpp"
 #include "sph/kernels.hpp"
 #include "sph/neighbours.hpp"
 
@@ -29,9 +31,9 @@ namespace bakesim::sph {
 struct Material {
   std::string name;
   Real rest_density = 1000.0;   // kg/m³
-  Real viscosity = 1e-3;        // dynamic viscosity μ, Pa·s
-  Real surface_tension = 0.0;   // σ, N/m (colour-field model)
-  Real xsph = 0.0;              // velocity tuner ε ∈ [0, 1]
+  TemperatureCurve viscosity = ConstantCurve{1e-3};  // dynamic viscosity μ(T), Pa·s (Eq 4.1)
+  Real surface_tension = 0.0;                        // σ, N/m (colour-field model)
+  TemperatureCurve xsph = ConstantCurve{0.0};        // velocity tuner ε(T), clamped to [0, 1] (Eq 4.4)
   Real specific_heat = 4181.0;  // J/(kg·K)
   Real conductivity = 0.6;      // W/(m·K)
 };
@@ -115,6 +117,7 @@ class SphSolver final : public Solver {
   void phase_collide();
   void phase_xsph();
   void phase_heat(Real dt);
+  void phase_properties();
   void check_finite();
   // Share of particle i's kernel beyond all analytic walls, 1 − Π(1 − f_k),
   // and its gradient (walls combined as independent events, exact for a
@@ -162,7 +165,7 @@ class SphSolver final : public Solver {
   std::vector<std::size_t> body_counts_;
 
   PhaseTimers timers_;
-  int t_kick_, t_drift_, t_collide_, t_sort_, t_neigh_, t_density_, t_pressure_, t_forces_, t_xsph_, t_heat_, t_check_;
+  int t_kick_, t_drift_, t_collide_, t_sort_, t_neigh_, t_density_, t_pressure_, t_forces_, t_xsph_, t_heat_, t_properties_, t_check_;
   Real time_ = 0.0;
   long steps_ = 0;
   std::string dt_bound_ = "cfl";

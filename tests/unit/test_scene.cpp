@@ -174,6 +174,24 @@ TEST(Scene, OverlappingBodiesAndBodiesInsideCollidersAreReported) {
   }
 }
 
+TEST(Scene, MaterialPropertiesMayBeCurvesOfTemperature) {
+  json d = base_scene();
+  d["materials"]["water"]["viscosity"] = {{"curve", "piecewise_linear"}, {"points", {{26, 0.1}, {45, 1.0}, {120, 5000.0}}}};
+  d["materials"]["water"]["xsph"] = {{"curve", "zhang_arctan"}, {"scale", 0.2}};
+  const Scene s = parse_scene(d.dump(), "scene.json", ".");
+  EXPECT_DOUBLE_EQ(evaluate(s.sph.materials[0].viscosity, 45.0), 1.0);
+  EXPECT_DOUBLE_EQ(s.resolved["materials"]["water"]["xsph"]["centre"].get<double>(), 65.0);  // defaults filled
+  json e = base_scene();
+  e["materials"]["water"]["viscosity"] = {{"curve", "piecewise_linaer"}, {"points", {{0, 1}}}};
+  expect_error(e, {"materials.water.viscosity.curve", "unknown curve \"piecewise_linaer\"", "did you mean \"piecewise_linear\""});
+  json f = base_scene();
+  f["materials"]["water"]["viscosity"] = {{"curve", "piecewise_linear"}, {"points", {{50, 1}, {40, 2}}}};
+  expect_error(f, {"materials.water.viscosity.points[1]", "increase strictly"});
+  json g = base_scene();
+  g["materials"]["water"]["viscosity"] = "thick";
+  expect_error(g, {"materials.water.viscosity", "expected a number or an object"});
+}
+
 TEST(Scene, ClosestMatch) {
   EXPECT_EQ(closest_match("raduis", {"type", "center", "radius"}), "radius");
   EXPECT_EQ(closest_match("zzzzzz", {"type", "center", "radius"}), "");
