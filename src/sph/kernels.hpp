@@ -77,6 +77,8 @@ class ViscosityLaplacian {
  public:
   explicit ViscosityLaplacian(Real h) : h_(h), c_(45.0 / (kPi * std::pow(h, 6))) {}
   Real operator()(Real r) const { return r < h_ ? c_ * (h_ - r) : 0.0; }
+  // 45/(π h⁶), for loops that already know r < h.
+  Real coefficient() const { return c_; }
 
  private:
   Real h_, c_;

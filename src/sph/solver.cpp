@@ -20,8 +20,9 @@ SphSolver::SphSolver(Setup setup)
       h_(setup_.settings.smoothing_ratio * setup_.settings.spacing),
       contact_distance_(0.5 * setup_.settings.spacing),
       kernel_(h_),
+      lattice_sum_(lattice_kernel_sum(kernel_, setup_.settings.spacing)),
       visc_lap_(h_),
-      wall_share_(kernel_, setup_.settings.spacing, lattice_kernel_sum(kernel_, setup_.settings.spacing)),
+      wall_share_(kernel_, setup_.settings.spacing, lattice_sum_),
       search_(setup_.settings.search, setup_.domain, h_),
       x_(particles_.add_vector("position", "m")),
       v_(particles_.add_vector("velocity", "m/s")),
@@ -38,10 +39,9 @@ SphSolver::SphSolver(Setup setup)
       ncount_(particles_.add_int("neighbours")) {
   const Settings& s = setup_.settings;
   if (setup_.materials.empty()) throw InputError("materials", "no materials defined");
-  const Real lattice_sum = lattice_kernel_sum(kernel_, s.spacing);
   for (const Material& m : setup_.materials) {
     tait_b_.push_back(m.rest_density * s.speed_of_sound * s.speed_of_sound / s.gamma);
-    mass_.push_back(m.rest_density / lattice_sum);
+    mass_.push_back(m.rest_density / lattice_sum_);
   }
   // Domain walls come first, then analytic colliders; meshes are separate.
   walls_.push_back(Collider{"domain", InsideBoxCollider{setup_.domain}, setup_.domain_friction,
@@ -231,7 +231,7 @@ void SphSolver::phase_forces() {
 
   const Real* p_rho2 = p_over_rho2_.data();
   const Real* vol = volume_.data();
-  const Real visc_c = 45.0 / (kPi * std::pow(h, 6));  // Eq 3.8
+  const Real visc_c = visc_lap_.coefficient();  // Eq 3.8 (all listed pairs have r < h)
   const Real lap_w0 = kernel_.laplacian(0.0);
   parallel_for(x_.size(), [&](std::size_t i) {
     const Vec3 xi = x[i], vi = v[i];

@@ -128,6 +128,7 @@ class SphSolver final : public Solver {
   Real h_;
   Real contact_distance_;
   CubicSpline kernel_;
+  Real lattice_sum_;  // Σ W over the sampling lattice (mass calibration, wall share)
   ViscosityLaplacian visc_lap_;
   WallKernelShare wall_share_;
   NeighbourSearch search_;
