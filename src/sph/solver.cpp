@@ -42,6 +42,7 @@ SphSolver::SphSolver(Setup setup)
   for (const Material& m : setup_.materials) {
     tait_b_.push_back(m.rest_density * s.speed_of_sound * s.speed_of_sound / s.gamma);
     mass_.push_back(m.rest_density / lattice_sum_);
+    conductivity_.push_back(m.conductivity);
   }
   // Domain walls come first, then analytic colliders; meshes are separate.
   walls_.push_back(Collider{"domain", InsideBoxCollider{setup_.domain}, setup_.domain_friction,
@@ -430,7 +431,7 @@ void SphSolver::phase_heat(Real dt) {
       const std::uint32_t j = nb[k];
       const Real r = pr[k];
       // x_ij·∇W = r² W'(r)/r
-      const Real kj = setup_.materials[material_[j]].conductivity;
+      const Real kj = conductivity_[material_[j]];
       sum += vol[j] * (ki + kj) * (ti - temp[j]) * (Real(pd[k]) * r * r) / (r * r + eta2);
     }
     dtemp_[i] = setup_.bodies[body_[i]].hold_temperature ? 0.0 : dt * sum / (rho_[i] * mi.specific_heat);
@@ -555,7 +556,20 @@ std::vector<std::string> SphSolver::probe_quantities() const {
 
 // Shepard-normalised SPH interpolation: A(x) = Σ V_j A_j W / Σ V_j W.
 std::vector<Real> SphSolver::sample(const Vec3& x, const std::vector<std::string>& quantities) const {
-  std::vector<Real> sum(quantities.size(), 0.0);
+  // Resolve names once, outside the neighbour loop.
+  enum class Q { temperature, density, pressure, speed, vx, vy, vz };
+  std::vector<Q> qs;
+  for (const std::string& name : quantities) {
+    if (name == "temperature") qs.push_back(Q::temperature);
+    else if (name == "density") qs.push_back(Q::density);
+    else if (name == "pressure") qs.push_back(Q::pressure);
+    else if (name == "speed") qs.push_back(Q::speed);
+    else if (name == "velocity_x") qs.push_back(Q::vx);
+    else if (name == "velocity_y") qs.push_back(Q::vy);
+    else if (name == "velocity_z") qs.push_back(Q::vz);
+    else throw InputError("probes", "unknown probe quantity '" + name + "'");
+  }
+  std::vector<Real> sum(qs.size(), 0.0);
   Real wsum = 0.0;
   const Real h2 = h_ * h_;
   search_.grid().for_each_within(x, h_, [&](std::uint32_t j) {
@@ -563,17 +577,17 @@ std::vector<Real> SphSolver::sample(const Vec3& x, const std::vector<std::string
     if (r2 >= h2) return;
     const Real w = m_[j] / rho_[j] * kernel_.w(std::sqrt(r2));
     wsum += w;
-    for (std::size_t q = 0; q < quantities.size(); ++q) {
-      const std::string& name = quantities[q];
+    for (std::size_t q = 0; q < qs.size(); ++q) {
       Real val = 0;
-      if (name == "temperature") val = temperature_[j];
-      else if (name == "density") val = rho_[j];
-      else if (name == "pressure") val = p_[j];
-      else if (name == "speed") val = v_[j].norm();
-      else if (name == "velocity_x") val = v_[j].x();
-      else if (name == "velocity_y") val = v_[j].y();
-      else if (name == "velocity_z") val = v_[j].z();
-      else throw InputError("probes", "unknown probe quantity '" + name + "'");
+      switch (qs[q]) {
+        case Q::temperature: val = temperature_[j]; break;
+        case Q::density: val = rho_[j]; break;
+        case Q::pressure: val = p_[j]; break;
+        case Q::speed: val = v_[j].norm(); break;
+        case Q::vx: val = v_[j].x(); break;
+        case Q::vy: val = v_[j].y(); break;
+        case Q::vz: val = v_[j].z(); break;
+      }
       sum[q] += w * val;
     }
   });

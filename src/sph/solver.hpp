@@ -137,6 +137,7 @@ class SphSolver final : public Solver {
   std::vector<Collider> meshes_; // mesh colliders
   std::vector<Real> tait_b_;     // per material
   std::vector<Real> mass_;       // per material
+  std::vector<Real> conductivity_;  // per material, read per neighbour pair in the heat phase
 
   ParticleSet particles_;
   std::vector<Vec3>& x_;
