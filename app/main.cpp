@@ -59,7 +59,7 @@ int command_run(const RunArgs& a) {
   L.info("{} particles; output in {}", solver->particles().size(), out.string());
   RunOutput output(out, scene, log);
   ProgressBar progress(stderr, !a.quiet);
-  FrameLoopConfig cfg{scene.end_time, scene.fps, 1};
+  FrameLoopConfig cfg{scene.end_time, scene.fps};
   RunSummary s;
   try {
     s = run_frames(*solver, cfg, output, progress, L);

@@ -16,7 +16,6 @@ struct Aabb {
     return (p.array() >= min.array()).all() && (p.array() <= max.array()).all();
   }
   Vec3 extent() const { return max - min; }
-  bool empty() const { return (max.array() < min.array()).any(); }
   static Aabb empty_box() {
     return {Vec3::Constant(1e300), Vec3::Constant(-1e300)};
   }

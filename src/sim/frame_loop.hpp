@@ -27,7 +27,6 @@ class FrameObserver {
 struct FrameLoopConfig {
   Real end_time = 1.0;
   Real fps = 30.0;
-  int write_every = 1;  // hand every n-th frame to the observer (first and last always)
 };
 
 struct RunSummary {
