@@ -12,6 +12,7 @@ PACKAGES=(
   libspdlog-dev libfmt-dev  # logging, formatting
   libnanoflann-dev       # kd-tree neighbour search
   libtinyobjloader-dev   # OBJ meshes
+  libqhull-dev           # convex hulls (surface particle detection)
   libgtest-dev libgmock-dev libbenchmark-dev  # tests and benchmarks
 )
 

@@ -57,7 +57,8 @@ struct Collider {
   ColliderGeometry geometry;
   Real friction = 0.0;  // 0: free slip (thesis β_c = 1), 1: no slip (β_c = 0)
   Real damping = 1.0;   // 1: normal velocity removed (α_c = 0), 0: elastic bounce (α_c = 1)
-  std::optional<Real> temperature;  // °C, for later heat exchange
+  std::optional<Real> temperature;  // °C; particles touching it exchange heat when set
+  Real heat_transfer_coefficient = 500.0;  // W/(m² K), contact exchange with touching particles
 };
 
 // Contact with a solid axis-aligned box from point p (outside or inside).

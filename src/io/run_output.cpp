@@ -4,7 +4,9 @@
 #include <spdlog/sinks/ostream_sink.h>
 #include <spdlog/sinks/stdout_color_sinks.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "io/files.hpp"
 #include "sim/stats.hpp"
@@ -37,6 +39,23 @@ std::string num(double v) {
   if (std::isnan(v)) return "nan";
   return fmt::format("{:.9g}", v);
 }
+
+Real particle_quantity(const ParticleSet& ps, std::size_t i, const std::string& q) {
+  if (q == "temperature") return ps.scalar("temperature")[i];
+  if (q == "density") return ps.scalar("density")[i];
+  if (q == "pressure") return ps.scalar("pressure")[i];
+  const Vec3& v = ps.vector("velocity")[i];
+  if (q == "speed") return v.norm();
+  if (q == "velocity_x") return v.x();
+  if (q == "velocity_y") return v.y();
+  return v.z();
+}
+
+// Unit vector against gravity (the loaf's "up"); +y without gravity.
+Vec3 up_direction(const Scene& scene) {
+  const Vec3 g = scene.sph.gravity;
+  return g.norm() > 0 ? Vec3(-g.normalized()) : Vec3::UnitY();
+}
 }  // namespace
 
 RunOutput::RunOutput(fs::path dir, const Scene& scene, RunLog& log) : dir_(std::move(dir)), scene_(scene), log_(log) {
@@ -49,7 +68,11 @@ RunOutput::RunOutput(fs::path dir, const Scene& scene, RunLog& log) : dir_(std::
 std::string RunOutput::stats_header() const {
   std::string h =
       "time,steps,dt,particles,kinetic_energy,max_speed,min_x,min_y,min_z,max_x,max_y,max_z,"
-      "mean_temperature,min_temperature,max_temperature,air_temperature,wall_time";
+      "mean_temperature,min_temperature,max_temperature,air_temperature,wall_time,bake_time";
+  for (const auto& b : scene_.sph.bodies) {
+    if (b.hold_temperature) continue;
+    h += fmt::format(",volume:{0},height:{0}", b.name);
+  }
   for (const auto& p : scene_.probes)
     for (const auto& q : p.quantities) h += fmt::format(",probe:{}:{}", p.name, q);
   return h;
@@ -69,14 +92,43 @@ void RunOutput::on_frame(const FrameInfo& info, const Solver& solver) {
     }
   }
   const FrameStats s = compute_frame_stats(ps);
-  std::string row = fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}", num(info.time), info.steps,
+  const Real bake_time = info.time * scene_.bake_time_scale;
+  std::string row = fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}", num(info.time), info.steps,
                                 num(info.last_dt), s.particles, num(s.kinetic_energy), num(s.max_speed),
                                 num(s.bounds.min.x()), num(s.bounds.min.y()), num(s.bounds.min.z()),
                                 num(s.bounds.max.x()), num(s.bounds.max.y()), num(s.bounds.max.z()),
                                 num(s.mean_temperature), num(s.min_temperature), num(s.max_temperature),
-                                num(scene_.air_temperature(info.time)), num(clock_.seconds()));
-  for (const auto& p : scene_.probes)
-    for (Real v : solver.sample(p.position, p.quantities)) row += "," + num(v);
+                                num(scene_.air_temperature(bake_time)), num(clock_.seconds()), num(bake_time));
+  const std::vector<BodyStats> bodies = compute_body_stats(ps, scene_.sph.bodies.size(), up_direction(scene_));
+  for (std::size_t b = 0; b < bodies.size(); ++b)
+    if (!scene_.sph.bodies[b].hold_temperature) row += "," + num(bodies[b].volume) + "," + num(bodies[b].height());
+  if (follow_ids_.empty()) {
+    // Followed probes pick their particle on the first frame.
+    const auto& x = ps.vector("position");
+    for (const auto& p : scene_.probes) {
+      std::int32_t best = -1;
+      Real best_d = std::numeric_limits<Real>::infinity();
+      if (p.follow)
+        for (std::size_t i = 0; i < ps.size(); ++i)
+          if (const Real d = (x[i] - p.position).squaredNorm(); d < best_d) {
+            best_d = d;
+            best = ps.integer("id")[i];
+          }
+      follow_ids_.push_back(best);
+    }
+  }
+  const auto& ids = ps.integer("id");
+  for (std::size_t k = 0; k < scene_.probes.size(); ++k) {
+    const auto& p = scene_.probes[k];
+    if (!p.follow) {
+      for (Real v : solver.sample(p.position, p.quantities)) row += "," + num(v);
+      continue;
+    }
+    const auto at = std::find(ids.begin(), ids.end(), follow_ids_[k]);
+    for (const auto& q : p.quantities)
+      row += "," + num(at == ids.end() ? std::numeric_limits<Real>::quiet_NaN()
+                                       : particle_quantity(ps, std::size_t(at - ids.begin()), q));
+  }
   stats_ += row + "\n";
   write_file_atomic(dir_ / "stats.csv", stats_);
   flush_log();

@@ -47,6 +47,7 @@ class RunOutput final : public FrameObserver {
   RunLog& log_;
   std::string stats_;
   std::vector<PvdEntry> pvd_;
+  std::vector<std::int32_t> follow_ids_;  // per probe: followed particle id, -1 for fixed probes
   Stopwatch clock_;
 };
 

@@ -150,6 +150,34 @@ std::pair<int, int> line_column(const std::string& text, std::size_t byte) {
   return {line, col};
 }
 
+// Thesis Table 4.1 with Eq 4.1–4.4 (two-segment curves through T0, Tc, Tf)
+// and bread-dough thermal properties; keys the scene gives win.
+json dough_preset() {
+  return json{{"density", 1100.0},
+              {"specific_heat", 2800.0},
+              {"conductivity", 0.4},
+              {"viscosity", {{"curve", "piecewise_linear"}, {"points", {{26, 0.1}, {45, 1.0}, {120, 5e3}}}}},
+              {"elasticity", {{"curve", "piecewise_linear"}, {"points", {{26, 1.0}, {45, 10.0}, {120, 5e4}}}}},
+              {"relaxation_time", {{"curve", "zhang_arctan"}, {"scale", 450.0}, {"centre", 65.0}, {"width", 2.0}, {"offset", 2.0}}},
+              {"xsph", {{"curve", "piecewise_linear"}, {"points", {{26, 0.05}, {120, 5.0}}}}}};
+}
+
+void apply_material_presets(json& doc) {
+  if (!doc.contains("materials") || !doc["materials"].is_object()) return;
+  for (auto& [name, m] : doc["materials"].items()) {
+    if (!m.is_object() || !m.contains("preset") || m["preset"] != "dough") continue;
+    for (const auto& [key, value] : dough_preset().items())
+      if (!m.contains(key)) m[key] = value;
+  }
+}
+
+sph::BubbleDistribution parse_distribution(const std::string& s) {
+  if (s == "centred") return sph::BubbleDistribution::centred;
+  if (s == "layered") return sph::BubbleDistribution::layered;
+  if (s == "region") return sph::BubbleDistribution::region;
+  return sph::BubbleDistribution::uniform;
+}
+
 }  // namespace
 
 Scene parse_scene(const std::string& text, const std::string& file, const std::string& base_dir) {
@@ -165,6 +193,7 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::s
     throw InputError(fmt::format("{}:{}:{}", file, line, col), "JSON syntax error: " + msg);
   }
   if (!doc.is_object()) throw InputError(file, "a scene must be a JSON object");
+  apply_material_presets(doc);
   scene_schema().validate(doc, file);
 
   const Ctx c{file, base_dir};
@@ -191,6 +220,7 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::s
 
   sc.air_temperature = build_schedule(c, "environment.air_temperature", doc["environment"]["air_temperature"]);
   sc.heat_transfer_coefficient = doc["environment"]["heat_transfer_coefficient"].get<double>();
+  sc.bake_time_scale = doc["environment"]["bake_time_scale"].get<double>();
 
   // Materials, in name order (json objects iterate sorted by key).
   sph::Setup& setup = sc.sph;
@@ -205,6 +235,10 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::s
     mat.xsph = build_curve(c, "materials." + it.key() + ".xsph", m["xsph"]);
     mat.specific_heat = m["specific_heat"].get<double>();
     mat.conductivity = m["conductivity"].get<double>();
+    mat.elasticity = build_curve(c, "materials." + it.key() + ".elasticity", m["elasticity"]);
+    mat.relaxation_time = build_curve(c, "materials." + it.key() + ".relaxation_time", m["relaxation_time"]);
+    if (std::visit([](const auto& curve) { return curve(-273.15) <= 0 || curve(2000.0) <= 0; }, mat.relaxation_time))
+      c.fail("materials." + it.key() + ".relaxation_time", "must stay above 0 s at every temperature");
     setup.materials.push_back(mat);
     material_names.push_back(it.key());
   }
@@ -233,6 +267,18 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::s
     body.temperature = b["temperature"].get<double>();
     body.velocity = vec3(b["velocity"]);
     body.hold_temperature = b["hold_temperature"].get<bool>();
+    const json& bj = b["bubbles"];
+    sph::BubbleSpec& bs = body.bubbles;
+    bs.fraction = bj["fraction"].get<double>();
+    bs.distribution = parse_distribution(bj["distribution"].get<std::string>());
+    bs.seed = bj["seed"].get<std::uint64_t>();
+    bs.layers = bj["layers"].get<int>();
+    if (bj.contains("region")) bs.region = build_shape(c, path + ".bubbles.region", bj["region"]);
+    else if (bs.distribution == sph::BubbleDistribution::region && bs.fraction > 0)
+      c.fail(path + ".bubbles", "distribution \"region\" needs a region shape");
+    if (!bj["pressure_scale"].is_null()) bs.pressure_scale = bj["pressure_scale"].get<double>();
+    bs.max_expansion = bj["max_expansion"].get<double>();
+    bs.end_temperature = bj["end_temperature"].get<double>();
     max_initial_speed = std::max(max_initial_speed, body.velocity.norm());
     setup.bodies.push_back(std::move(body));
   }
@@ -252,11 +298,21 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::s
   st.conduction_factor = sj["conduction_factor"].get<double>();
   st.viscous_factor = sj["viscous_factor"].get<double>();
   st.force_factor = sj["force_factor"].get<double>();
+  st.surface_method = sph::parse_surface_method(sj["surface"]["method"].get<std::string>());
+  st.surface_colour_threshold = sj["surface"]["colour_threshold"].get<double>();
+  st.surface_hull_threshold = sj["surface"]["hull_threshold"].get<double>();
+  st.surface_every = sj["surface"]["every_steps"].get<int>();
+  st.viscosity_solver = sph::parse_viscosity_solver(sj["viscosity_solver"].get<std::string>());
+  st.implicit_tolerance = sj["implicit_viscosity"]["tolerance"].get<double>();
+  st.implicit_max_iterations = sj["implicit_viscosity"]["max_iterations"].get<int>();
   st.cfl = doc["solver"]["cfl"].get<double>();
   st.max_dt = doc["solver"]["max_dt"].get<double>();
 
   setup.gravity = vec3(doc["gravity"]);
   setup.domain = {dmin, dmax};
+  setup.environment.air_temperature = sc.air_temperature;
+  setup.environment.heat_transfer_coefficient = sc.heat_transfer_coefficient;
+  setup.environment.bake_time_scale = sc.bake_time_scale;
   setup.domain_friction = doc["domain"]["friction"].get<double>();
   setup.domain_damping = doc["domain"]["damping"].get<double>();
 
@@ -281,12 +337,14 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::s
     col.friction = cj["friction"].get<double>();
     col.damping = cj["damping"].get<double>();
     if (!cj["temperature"].is_null()) col.temperature = cj["temperature"].get<double>();
+    col.heat_transfer_coefficient = cj["heat_transfer_coefficient"].get<double>();
     setup.colliders.push_back(std::move(col));
   }
 
   for (std::size_t i = 0; i < doc["probes"].size(); ++i) {
     const json& pj = doc["probes"][i];
-    ProbeSpec p{pj["name"].get<std::string>(), vec3(pj["position"]), pj["quantities"].get<std::vector<std::string>>()};
+    ProbeSpec p{pj["name"].get<std::string>(), vec3(pj["position"]), pj["quantities"].get<std::vector<std::string>>(),
+                pj["follow"].get<bool>()};
     if (!setup.domain.contains(p.position)) c.fail(fmt::format("probes[{}].position", i), "lies outside the domain");
     sc.probes.push_back(std::move(p));
   }

@@ -17,6 +17,7 @@ struct ProbeSpec {
   std::string name;
   Vec3 position;
   std::vector<std::string> quantities;
+  bool follow = false;  // track the particle that starts nearest the position
 };
 
 struct OutputSpec {
@@ -35,6 +36,7 @@ struct Scene {
   Real fps = 30.0;
   PiecewiseLinear air_temperature;
   Real heat_transfer_coefficient = 10.0;
+  Real bake_time_scale = 1.0;  // bake seconds per simulated second
   std::vector<ProbeSpec> probes;
   OutputSpec output;
   sph::Setup sph;

@@ -64,4 +64,34 @@ FrameStats compute_frame_stats(const ParticleSet& ps) {
   return out;
 }
 
+std::vector<BodyStats> compute_body_stats(const ParticleSet& ps, std::size_t bodies, const Vec3& up) {
+  using Acc = std::vector<BodyStats>;
+  if (!ps.has("body_id") || !ps.has("density") || bodies == 0) return Acc(bodies);
+  const auto& x = ps.vector("position");
+  const auto& m = ps.scalar("mass");
+  const auto& rho = ps.scalar("density");
+  const auto& body = ps.integer("body_id");
+  return deterministic_reduce(
+      ps.size(), Acc(bodies),
+      [&](std::size_t b, std::size_t e) {
+        Acc a(bodies);
+        for (std::size_t i = b; i < e; ++i) {
+          BodyStats& s = a[static_cast<std::size_t>(body[i])];
+          s.volume += m[i] / rho[i];
+          const Real u = x[i].dot(up);
+          s.low = std::min(s.low, u);
+          s.high = std::max(s.high, u);
+        }
+        return a;
+      },
+      [](Acc a, const Acc& b) {
+        for (std::size_t k = 0; k < a.size(); ++k) {
+          a[k].volume += b[k].volume;
+          a[k].low = std::min(a[k].low, b[k].low);
+          a[k].high = std::max(a[k].high, b[k].high);
+        }
+        return a;
+      });
+}
+
 }  // namespace bakesim

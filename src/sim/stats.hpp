@@ -1,6 +1,9 @@
 #pragma once
 // Per-frame statistics of a particle set (stats.csv). Reductions are
 // deterministic: the same state gives the same numbers on any thread count.
+#include <limits>
+#include <vector>
+
 #include "core/particles.hpp"
 
 namespace bakesim {
@@ -14,5 +17,13 @@ struct FrameStats {
 };
 
 FrameStats compute_frame_stats(const ParticleSet& particles);
+
+// Per body (attribute body_id): volume Σ m/ρ (m³) and extent along `up` (m).
+struct BodyStats {
+  Real volume = 0;
+  Real low = std::numeric_limits<Real>::infinity(), high = -std::numeric_limits<Real>::infinity();
+  Real height() const { return high >= low ? high - low : 0.0; }
+};
+std::vector<BodyStats> compute_body_stats(const ParticleSet& particles, std::size_t bodies, const Vec3& up);
 
 }  // namespace bakesim

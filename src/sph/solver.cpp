@@ -5,15 +5,58 @@
 #include <cmath>
 #include <limits>
 
+#include <tbb/enumerable_thread_specific.h>
+
 #include "core/errors.hpp"
 #include "core/parallel.hpp"
+#include "physics/bubbles.hpp"
+#include "physics/heat.hpp"
+#include "physics/maxwell.hpp"
 
 namespace bakesim::sph {
 namespace {
 
 bool is_mesh(const Collider& c) { return std::holds_alternative<MeshCollider>(c.geometry); }
 
+// Largest value a temperature curve takes (curves are monotone pieces, so
+// their extremes sit at breakpoints or at the ends).
+Real curve_max(const TemperatureCurve& c) {
+  if (const auto* k = std::get_if<ConstantCurve>(&c)) return k->value;
+  if (const auto* p = std::get_if<PiecewiseLinear>(&c)) {
+    Real m = 0;
+    for (const auto& [t, v] : p->points()) m = std::max(m, v);
+    return m;
+  }
+  const auto& z = std::get<ZhangArctan>(c);
+  return 2.0 * z.scale + z.offset;
+}
+
+// splitmix64: a stable, platform-independent hash for reproducible bubble
+// placement (std::uniform_real_distribution differs between libraries).
+double unit_random(std::uint64_t seed, std::uint64_t index) {
+  std::uint64_t z = seed * 0x9E3779B97F4A7C15ull + index + 0x632BE59BD9B4E019ull;
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  z ^= z >> 31;
+  return double(z >> 11) * (1.0 / 9007199254740992.0);
+}
+
 }  // namespace
+
+ViscositySolver parse_viscosity_solver(const std::string& name) {
+  if (name == "explicit") return ViscositySolver::explicit_euler;
+  if (name == "implicit") return ViscositySolver::implicit;
+  if (name == "auto") return ViscositySolver::automatic;
+  throw InputError("solver.sph.viscosity_solver", "unknown viscosity solver '" + name + "' (explicit, implicit, auto)");
+}
+
+std::string to_string(ViscositySolver v) {
+  switch (v) {
+    case ViscositySolver::explicit_euler: return "explicit";
+    case ViscositySolver::implicit: return "implicit";
+    default: return "auto";
+  }
+}
 
 SphSolver::SphSolver(Setup setup)
     : setup_(std::move(setup)),
@@ -33,6 +76,15 @@ SphSolver::SphSolver(Setup setup)
       temperature_(particles_.add_scalar("temperature", "degC")),
       mu_(particles_.add_scalar("viscosity", "Pa*s")),
       eps_(particles_.add_scalar("xsph_epsilon", "")),
+      elasticity_(particles_.add_scalar("elasticity", "Pa")),
+      relaxation_(particles_.add_scalar("relaxation_time", "s")),
+      stress_diag_(particles_.add_vector("stress_normal", "Pa")),
+      stress_off_(particles_.add_vector("stress_shear", "Pa")),
+      area_(particles_.add_scalar("surface_area", "m^2")),
+      set_density_(particles_.add_scalar("set_density", "kg/m^3", false)),
+      surface_(particles_.add_int("surface")),
+      bubble_(particles_.add_int("bubble")),
+      rise_state_(particles_.add_int("rise_state")),
       material_(particles_.add_int("material_id")),
       body_(particles_.add_int("body_id")),
       id_(particles_.add_int("id")),
@@ -43,6 +95,18 @@ SphSolver::SphSolver(Setup setup)
     tait_b_.push_back(m.rest_density * s.speed_of_sound * s.speed_of_sound / s.gamma);
     mass_.push_back(m.rest_density / lattice_sum_);
     conductivity_.push_back(m.conductivity);
+  }
+  for (const Body& b : setup_.bodies)
+    bubble_b_.push_back(b.bubbles.pressure_scale ? *b.bubbles.pressure_scale
+                                                 : tait_b_.at(std::clamp<int>(b.material, 0, int(tait_b_.size()) - 1)));
+  // Implicit viscosity when the explicit viscous bound would be tighter than
+  // the CFL bound at the largest viscosity any material reaches.
+  implicit_viscosity_ = s.viscosity_solver == ViscositySolver::implicit;
+  if (s.viscosity_solver == ViscositySolver::automatic) {
+    const Real hs = 0.5 * h_;
+    Real nu = 0;
+    for (const Material& m : setup_.materials) nu = std::max(nu, curve_max(m.viscosity) / m.rest_density);
+    implicit_viscosity_ = nu > 0 && s.viscous_factor * hs * hs / nu < s.cfl * hs / s.speed_of_sound;
   }
   // Domain walls come first, then analytic colliders; meshes are separate.
   walls_.push_back(Collider{"domain", InsideBoxCollider{setup_.domain}, setup_.domain_friction,
@@ -55,9 +119,12 @@ SphSolver::SphSolver(Setup setup)
   t_sort_ = timers_.add("sort");
   t_neigh_ = timers_.add("neighbours");
   t_density_ = timers_.add("density");
+  t_surface_ = timers_.add("surface");
+  t_stress_ = timers_.add("stress");
   t_pressure_ = timers_.add("pressure");
   t_forces_ = timers_.add("forces");
   t_xsph_ = timers_.add("xsph");
+  t_viscosity_ = timers_.add("viscosity");
   t_heat_ = timers_.add("heat");
   t_properties_ = timers_.add("properties");
   t_check_ = timers_.add("check");
@@ -134,19 +201,102 @@ void SphSolver::seed_particles() {
       temperature_[k] = b.temperature;
       mu_[k] = evaluate(mat.viscosity, b.temperature);
       eps_[k] = std::clamp(evaluate(mat.xsph, b.temperature), 0.0, 1.0);
+      elasticity_[k] = evaluate(mat.elasticity, b.temperature);
+      relaxation_[k] = evaluate(mat.relaxation_time, b.temperature);
+      stress_diag_[k].setZero();
+      stress_off_[k].setZero();
+      set_density_[k] = mat.rest_density;
       material_[k] = b.material;
       body_[k] = static_cast<std::int32_t>(bi);
       id_[k] = static_cast<std::int32_t>(k);
       ++k;
     }
   }
+  assign_bubbles();
+}
+
+// Tags bubble particles per body (thesis 3.3.3, Fig 4.4): a random share of
+// the body, of its centre, of alternate horizontal layers, or of a region.
+void SphSolver::assign_bubbles() {
+  const Vec3 up = setup_.gravity.norm() > 0 ? Vec3(-setup_.gravity.normalized()) : Vec3::UnitY();
+  std::size_t first = 0;
+  for (std::size_t bi = 0; bi < setup_.bodies.size(); ++bi) {
+    const BubbleSpec& spec = setup_.bodies[bi].bubbles;
+    const std::size_t count = body_counts_[bi];
+    const std::size_t end = first + count;
+    if (spec.fraction > 0) {
+      if (spec.distribution == BubbleDistribution::centred) {
+        // The share of particles closest to the body's centroid.
+        Vec3 centre = Vec3::Zero();
+        for (std::size_t i = first; i < end; ++i) centre += x_[i];
+        centre /= Real(count);
+        std::vector<std::pair<Real, std::size_t>> by_distance;
+        for (std::size_t i = first; i < end; ++i) by_distance.emplace_back((x_[i] - centre).squaredNorm(), i);
+        std::sort(by_distance.begin(), by_distance.end());
+        const auto take = static_cast<std::size_t>(std::llround(spec.fraction * Real(count)));
+        for (std::size_t k = 0; k < take && k < count; ++k) bubble_[by_distance[k].second] = 1;
+      } else {
+        Real lo = std::numeric_limits<Real>::infinity(), hi = -lo;
+        for (std::size_t i = first; i < end; ++i) {
+          lo = std::min(lo, x_[i].dot(up));
+          hi = std::max(hi, x_[i].dot(up));
+        }
+        for (std::size_t i = first; i < end; ++i) {
+          bool zone = true;
+          if (spec.distribution == BubbleDistribution::layered) {
+            const Real u = hi > lo ? (x_[i].dot(up) - lo) / (hi - lo) : 0.0;
+            const int layer = std::min(spec.layers - 1, static_cast<int>(u * spec.layers));
+            zone = layer % 2 == 1;
+          } else if (spec.distribution == BubbleDistribution::region) {
+            zone = spec.region && contains(*spec.region, x_[i]);
+          }
+          if (zone && unit_random(spec.seed, i - first) < spec.fraction) bubble_[i] = 1;
+        }
+      }
+    }
+    first = end;
+  }
 }
 
 void SphSolver::refresh() {
   phase_neighbours();
   phase_density();
+  phase_surface();
   phase_pressure();
   phase_forces();
+}
+
+bool SphSolver::any_elastic() const {
+  for (const Material& m : setup_.materials)
+    if (!is_constant(m.elasticity) || std::get<ConstantCurve>(m.elasticity).value != 0.0) return true;
+  return false;
+}
+
+Mat3 SphSolver::stress(std::size_t i) const {
+  const Vec3& d = stress_diag_[i];
+  const Vec3& o = stress_off_[i];
+  Mat3 s;
+  s << d.x(), o.x(), o.y(), o.x(), d.y(), o.z(), o.y(), o.z(), d.z();
+  return s;
+}
+
+void SphSolver::set_stress(std::size_t i, const Mat3& s) {
+  stress_diag_[i] = Vec3(s(0, 0), s(1, 1), s(2, 2));
+  stress_off_[i] = Vec3(0.5 * (s(0, 1) + s(1, 0)), 0.5 * (s(0, 2) + s(2, 0)), 0.5 * (s(1, 2) + s(2, 1)));
+}
+
+// Eq 3.27: ∂v_a/∂x_b = Σ_j V_j (v_j − v_i)_a (∇_i W_ij)_b.
+Mat3 SphSolver::velocity_gradient(std::size_t i) const {
+  Mat3 grad = Mat3::Zero();
+  const std::uint32_t* nb = lists_.begin(i);
+  const std::uint32_t count = lists_.count(i);
+  const float* pd = pair_dwr_.data() + i * lists_.stride();
+  for (std::uint32_t k = 0; k < count; ++k) {
+    const std::uint32_t j = nb[k];
+    const Vec3 gw = Real(pd[k]) * (x_[i] - x_[j]);
+    grad += (m_[j] / rho_[j]) * (v_[j] - v_[i]) * gw.transpose();
+  }
+  return grad;
 }
 
 // ---- phases ------------------------------------------------------------------
@@ -192,24 +342,91 @@ void SphSolver::phase_density() {
   });
 }
 
-// Eq 3.17 (Tait, γ = 7).
+// Eq 3.17 (Tait, γ = 7); Eq 3.48–3.51 for rising bubbles; Eq 3.52 once the
+// rise has ended (reference density ρ_f keeps the risen volume).
 void SphSolver::phase_pressure() {
   ScopedPhase t(timers_, t_pressure_);
   const Real gamma = setup_.settings.gamma;
   const bool clamp = setup_.settings.clamp_negative_pressure;
+  const bool elastic = any_elastic();
   p_over_rho2_.resize(x_.size());
   volume_.resize(x_.size());
+  if (elastic) stress_rho2_.resize(x_.size());
   parallel_for(x_.size(), [&](std::size_t i) {
     const int mat = material_[i];
-    const Real ratio = rho_[i] / setup_.materials[mat].rest_density;
-    // γ = 7 is the common case: multiply instead of calling pow.
-    const Real power = gamma == 7.0 ? ratio * ratio * ratio * ratio * ratio * ratio * ratio : std::pow(ratio, gamma);
-    Real p = tait_b_[mat] * (power - 1.0);
+    const Real rho0 = setup_.materials[mat].rest_density;
+    Real p;
+    if (rise_state_[i] == 2) {
+      p = tait_pressure(tait_b_[mat], rho_[i], set_density_[i], gamma);
+    } else if (rise_state_[i] == 1) {
+      const Body& b = setup_.bodies[body_[i]];
+      p = bubble_pressure(bubble_b_[body_[i]], rho_[i], rho0, temperature_[i], b.temperature);
+    } else {
+      p = tait_pressure(tait_b_[mat], rho_[i], rho0, gamma);
+    }
     if (clamp && p < 0) p = 0;
     p_[i] = p;
-    p_over_rho2_[i] = p / (rho_[i] * rho_[i]);
+    const Real inv_rho2 = 1.0 / (rho_[i] * rho_[i]);
+    p_over_rho2_[i] = p * inv_rho2;
     volume_[i] = m_[i] / rho_[i];
+    if (elastic) stress_rho2_[i] = stress(i) * inv_rho2;
   }, 1024);
+}
+
+// Colour gradient ∇C_i = Σ V_j ∇W_ij (Eq 3.28; points into the fluid) and the
+// surface particles (thesis 3.1.8): |∇C| h above a threshold (colour), or the
+// local convex hull test (convex_hull, every `surface_every` steps). Surface
+// particles get the exchange area A_i = π r_i² with 4/3 π r_i³ = m_i/ρ0 (Eq 3.43).
+void SphSolver::phase_surface() {
+  ScopedPhase t(timers_, t_surface_);
+  const Settings& s = setup_.settings;
+  const std::size_t n = x_.size();
+  colour_grad_.resize(n);
+  parallel_for(n, [&](std::size_t i) {
+    Vec3 grad = Vec3::Zero();
+    const std::uint32_t* nb = lists_.begin(i);
+    const std::uint32_t count = lists_.count(i);
+    const float* pd = pair_dwr_.data() + i * lists_.stride();
+    for (std::uint32_t k = 0; k < count; ++k) {
+      const std::uint32_t j = nb[k];
+      grad += (m_[j] / rho_[j] * Real(pd[k])) * (x_[i] - x_[j]);
+    }
+    colour_grad_[i] = grad;
+  });
+  if (s.surface_method == SurfaceMethod::colour) {
+    const Real threshold = s.surface_colour_threshold;
+    parallel_for(n, [&](std::size_t i) { surface_[i] = colour_grad_[i].norm() * h_ >= threshold ? 1 : 0; }, 4096);
+  } else if (steps_ % s.surface_every == 0) {
+    const Real threshold = s.surface_hull_threshold * s.spacing;
+    struct Scratch {
+      LocalConvexHull hull;
+      std::vector<Vec3> points;
+    };
+    tbb::enumerable_thread_specific<Scratch> scratch;
+    parallel_for(n, [&](std::size_t i) {
+      Scratch& sc = scratch.local();
+      sc.points.clear();
+      const std::uint32_t* nb = lists_.begin(i);
+      for (std::uint32_t k = 0; k < lists_.count(i); ++k) sc.points.push_back(x_[nb[k]]);
+      surface_[i] = sc.hull.distance_to_boundary(x_[i], sc.points.data(), sc.points.size()) < threshold ? 1 : 0;
+    }, 64);
+  }
+  parallel_for(n, [&](std::size_t i) {
+    const Real rho0 = setup_.materials[material_[i]].rest_density;
+    const Real r = std::cbrt(3.0 * m_[i] / (4.0 * kPi * rho0));  // Eq 3.43
+    area_[i] = surface_[i] ? kPi * r * r : 0.0;
+  }, 4096);
+}
+
+// Eq 3.20–3.27: the Maxwell stress follows the velocity gradient of the
+// half-step velocities at the new positions.
+void SphSolver::phase_stress(Real dt) {
+  if (!any_elastic()) return;
+  ScopedPhase t(timers_, t_stress_);
+  parallel_for(x_.size(), [&](std::size_t i) {
+    if (elasticity_[i] == 0.0 && stress_diag_[i].isZero() && stress_off_[i].isZero()) return;
+    set_stress(i, maxwell_stress_step(stress(i), velocity_gradient(i), elasticity_[i], relaxation_[i], dt));
+  }, 256);
 }
 
 void SphSolver::phase_forces() {
@@ -232,12 +449,16 @@ void SphSolver::phase_forces() {
 
   const Real* p_rho2 = p_over_rho2_.data();
   const Real* vol = volume_.data();
+  const bool explicit_visc = !implicit_viscosity_;
+  const bool elastic = any_elastic();
+  const Mat3* s_rho2 = elastic ? stress_rho2_.data() : nullptr;
   const Real visc_c = visc_lap_.coefficient();  // Eq 3.8 (all listed pairs have r < h)
   const Real lap_w0 = kernel_.laplacian(0.0);
   parallel_for(x_.size(), [&](std::size_t i) {
     const Vec3 xi = x[i], vi = v[i];
     const Real rhoi = rho[i], pi_rho2 = p_rho2[i], mui = mu[i];
-    Vec3 acc_p = Vec3::Zero(), acc_v = Vec3::Zero(), acc_av = Vec3::Zero(), normal = Vec3::Zero();
+    Vec3 acc_p = Vec3::Zero(), acc_v = Vec3::Zero(), acc_av = Vec3::Zero(), acc_s = Vec3::Zero();
+    const Vec3 normal = colour_grad_[i];
     // The colour sums run over all j including i (Eq 3.28); the self term of
     // the Laplacian is large and negative, without it ∇²C is biased positive
     // and the force would point outwards.
@@ -255,7 +476,10 @@ void SphSolver::phase_forces() {
       acc_p -= (m[j] * (pi_rho2 + p_rho2[j])) * grad;
       // Eq 3.19: pairwise-averaged viscosity with the viscosity-kernel Laplacian.
       const Vec3 vij = vi - v[j];
-      acc_v -= (0.5 * (mui + mu[j]) * vol[j] * visc_c * (h - r)) * vij;
+      if (explicit_visc) acc_v -= (0.5 * (mui + mu[j]) * vol[j] * visc_c * (h - r)) * vij;
+      // Divergence of the viscoelastic stress (Eq 2.18 in SPH form):
+      // Σ m_j (S_i/ρ_i² + S_j/ρ_j²) ∇_i W_ij.
+      if (elastic) acc_s += m[j] * ((s_rho2[i] + s_rho2[j]) * grad);
       // Eq 3.35–3.41: artificial viscosity, only for approaching pairs
       // (branch-free: min(v·x, 0) makes Π vanish for receding pairs).
       if (artificial) {
@@ -266,13 +490,10 @@ void SphSolver::phase_forces() {
         const Real pi_ij = (-s.av_alpha * c * hvx * denom + s.av_beta * hvx * hvx) * inv;
         acc_av -= (m[j] * pi_ij) * grad;
       }
-      if (any_tension) {
-        // Eq 3.28–3.29: colour field gradient and Laplacian.
-        normal += vol[j] * grad;
-        lap_c += vol[j] * kernel_.laplacian(r);
-      }
+      // Eq 3.29: colour field Laplacian (the gradient, Eq 3.28, comes from the surface phase).
+      if (any_tension) lap_c += vol[j] * kernel_.laplacian(r);
     }
-    Vec3 acc = acc_p + acc_v / rhoi + acc_av + g;
+    Vec3 acc = acc_p + acc_v / rhoi + acc_av + acc_s + g;
     if (any_tension) {
       const Real sigma = setup_.materials[material_[i]].surface_tension;
       const Real nn = normal.norm();
@@ -398,68 +619,138 @@ void SphSolver::phase_xsph() {
 // pairs), so the Laplacian is taken in the Cleary–Monaghan form
 //   (∇·k∇T)_i = Σ_j V_j (k_i + k_j)(T_i − T_j) x_ij·∇W_ij / (r² + η²),
 // which is always diffusive and exchanges heat pairwise (energy is conserved).
+// Then Eq 3.42–3.43 at surface particles: m c_p dT/dt = h A (T_ext − T) with
+// T_ext the touching collider's temperature, or the oven air's. Heat runs on
+// the bake clock: dt_bake = scale · dt.
 void SphSolver::phase_heat(Real dt) {
-  if (!setup_.settings.heat_conduction) return;
   ScopedPhase t(timers_, t_heat_);
-  // Nothing flows in an isothermal state (a common case: water at room temperature).
-  const auto range = deterministic_reduce(
-      x_.size(), std::pair<Real, Real>{std::numeric_limits<Real>::infinity(), -std::numeric_limits<Real>::infinity()},
-      [&](std::size_t b, std::size_t e) {
-        std::pair<Real, Real> r{std::numeric_limits<Real>::infinity(), -std::numeric_limits<Real>::infinity()};
-        for (std::size_t i = b; i < e; ++i) {
-          r.first = std::min(r.first, temperature_[i]);
-          r.second = std::max(r.second, temperature_[i]);
+  const Environment& env = setup_.environment;
+  const Real dt_bake = dt * env.bake_time_scale;
+  const std::size_t n = x_.size();
+  if (setup_.settings.heat_conduction) {
+    // Nothing flows in an isothermal state (a common case: water at room temperature).
+    using Range = std::pair<Real, Real>;
+    const Real inf = std::numeric_limits<Real>::infinity();
+    const Range range = deterministic_reduce(
+        n, Range{inf, -inf},
+        [&](std::size_t b, std::size_t e) {
+          Range r{inf, -inf};
+          for (std::size_t i = b; i < e; ++i) {
+            r.first = std::min(r.first, temperature_[i]);
+            r.second = std::max(r.second, temperature_[i]);
+          }
+          return r;
+        },
+        [](Range a, Range b) { return Range{std::min(a.first, b.first), std::max(a.second, b.second)}; });
+    if (range.second > range.first) {
+      const Real eta2 = 0.01 * h_ * h_;
+      const Real* temp = temperature_.data();
+      const Real* vol = volume_.data();
+      parallel_for(n, [&](std::size_t i) {
+        const Material& mi = setup_.materials[material_[i]];
+        const Real ti = temp[i], ki = mi.conductivity;
+        const std::uint32_t* nb = lists_.begin(i);
+        const std::uint32_t count = lists_.count(i);
+        const float* pr = lists_.distances(i);
+        const float* pd = pair_dwr_.data() + i * lists_.stride();
+        Real sum = 0;
+        for (std::uint32_t k = 0; k < count; ++k) {
+          const std::uint32_t j = nb[k];
+          const Real r = pr[k];
+          // x_ij·∇W = r² W'(r)/r
+          const Real kj = conductivity_[material_[j]];
+          sum += vol[j] * (ki + kj) * (ti - temp[j]) * (Real(pd[k]) * r * r) / (r * r + eta2);
         }
-        return r;
-      },
-      [](std::pair<Real, Real> a, std::pair<Real, Real> b) {
-        return std::pair<Real, Real>{std::min(a.first, b.first), std::max(a.second, b.second)};
+        dtemp_[i] = setup_.bodies[body_[i]].hold_temperature ? 0.0 : dt_bake * sum / (rho_[i] * mi.specific_heat);
       });
-  if (!(range.second > range.first)) return;
-  const Real eta2 = 0.01 * h_ * h_;
-  const Real* temp = temperature_.data();
-  const Real* vol = volume_.data();
-  parallel_for(x_.size(), [&](std::size_t i) {
-    const Material& mi = setup_.materials[material_[i]];
-    const Real ti = temp[i], ki = mi.conductivity;
-    const std::uint32_t* nb = lists_.begin(i);
-    const std::uint32_t count = lists_.count(i);
-    const float* pr = lists_.distances(i);
-    const float* pd = pair_dwr_.data() + i * lists_.stride();
-    Real sum = 0;
-    for (std::uint32_t k = 0; k < count; ++k) {
-      const std::uint32_t j = nb[k];
-      const Real r = pr[k];
-      // x_ij·∇W = r² W'(r)/r
-      const Real kj = conductivity_[material_[j]];
-      sum += vol[j] * (ki + kj) * (ti - temp[j]) * (Real(pd[k]) * r * r) / (r * r + eta2);
+      parallel_for(n, [&](std::size_t i) { temperature_[i] += dtemp_[i]; }, 4096);
     }
-    dtemp_[i] = setup_.bodies[body_[i]].hold_temperature ? 0.0 : dt * sum / (rho_[i] * mi.specific_heat);
-  });
-  parallel_for(x_.size(), [&](std::size_t i) { temperature_[i] += dtemp_[i]; }, 4096);
+  }
+  // External exchange (Eq 3.42 with the sign and heat capacity restored).
+  const Real air = env.air_temperature(bake_time());
+  const Real h_air = env.heat_transfer_coefficient;
+  bool heated_colliders = false;
+  for (const Collider& c : setup_.colliders) heated_colliders |= c.temperature.has_value();
+  const Real touch = setup_.settings.spacing;  // contact: within one spacing of the collider surface
+  parallel_for(n, [&](std::size_t i) {
+    dtemp_[i] = 0.0;
+    if (!surface_[i] || area_[i] <= 0 || setup_.bodies[body_[i]].hold_temperature) return;
+    Real outside = air, coefficient = h_air;
+    if (heated_colliders) {
+      bool found = false;
+      for (const Collider& c : walls_) {
+        if (!c.temperature || found) continue;
+        for_each_wall(c.geometry, x_[i], touch, [&](const WallContact&) { found = true; });
+        if (found) {
+          outside = *c.temperature;
+          coefficient = c.heat_transfer_coefficient;
+        }
+      }
+      const Real len = colour_grad_[i].norm();
+      for (const Collider& c : meshes_) {
+        if (!c.temperature || found || len <= 0) continue;
+        const Vec3 out = -colour_grad_[i] / len;
+        if (mesh_segment_hits(std::get<MeshCollider>(c.geometry), x_[i], x_[i] + touch * out, 0.0).hits > 0) {
+          found = true;
+          outside = *c.temperature;
+          coefficient = c.heat_transfer_coefficient;
+        }
+      }
+    }
+    const Real capacity = m_[i] * setup_.materials[material_[i]].specific_heat;
+    const Real before = temperature_[i];
+    temperature_[i] = exchange_temperature(before, outside, coefficient * area_[i], capacity, dt_bake);
+    dtemp_[i] = exchanged_energy(before, temperature_[i], capacity);
+  }, 1024);
+  exchanged_heat_ += deterministic_reduce(
+      n, 0.0,
+      [&](std::size_t b, std::size_t e) {
+        Real sum = 0;
+        for (std::size_t i = b; i < e; ++i) sum += dtemp_[i];
+        return sum;
+      },
+      [](Real a, Real b) { return a + b; });
 }
 
-// Eq 4.1 and 4.4: viscosity and XSPH tuner follow each particle's temperature.
-// The curve is visited once per material; the particle loop sees a plain
-// callable.
+// Eq 4.1–4.4: viscosity, elasticity, relaxation time and XSPH tuner follow
+// each particle's temperature. Each curve is visited once per material; the
+// particle loop sees a plain callable. Then the rise state of Eq 3.48–3.52.
 void SphSolver::phase_properties() {
   ScopedPhase t(timers_, t_properties_);
+  const std::size_t n = x_.size();
+  auto follow = [&](int id, const TemperatureCurve& c, std::vector<Real>& out, Real lo, Real hi) {
+    if (is_constant(c)) return;
+    std::visit([&](const auto& curve) {
+      parallel_for(n, [&](std::size_t i) {
+        if (material_[i] == id) out[i] = std::clamp(curve(temperature_[i]), lo, hi);
+      }, 4096);
+    }, c);
+  };
+  const Real inf = std::numeric_limits<Real>::infinity();
   for (std::size_t mi = 0; mi < setup_.materials.size(); ++mi) {
     const Material& mat = setup_.materials[mi];
     const int id = static_cast<int>(mi);
-    if (!is_constant(mat.viscosity))
-      std::visit([&](const auto& curve) {
-        parallel_for(x_.size(), [&](std::size_t i) {
-          if (material_[i] == id) mu_[i] = curve(temperature_[i]);
-        }, 4096);
-      }, mat.viscosity);
-    if (!is_constant(mat.xsph))
-      std::visit([&](const auto& curve) {
-        parallel_for(x_.size(), [&](std::size_t i) {
-          if (material_[i] == id) eps_[i] = std::clamp(curve(temperature_[i]), 0.0, 1.0);
-        }, 4096);
-      }, mat.xsph);
+    follow(id, mat.viscosity, mu_, 0.0, inf);
+    follow(id, mat.xsph, eps_, 0.0, 1.0);
+    follow(id, mat.elasticity, elasticity_, 0.0, inf);
+    follow(id, mat.relaxation_time, relaxation_, 1e-9, inf);  // λ > 0 (Eq 3.20 divides by it)
   }
+  // Bubbles start rising once heating begins; a bubble stops when it has
+  // expanded max_expansion times, and every particle of the body switches to
+  // the risen Tait law at end_temperature (ρ_f: its density then, Eq 3.52).
+  parallel_for(n, [&](std::size_t i) {
+    const Body& b = setup_.bodies[body_[i]];
+    if (b.bubbles.fraction <= 0 || rise_state_[i] == 2) return;
+    const Real rho0 = setup_.materials[material_[i]].rest_density;
+    const bool rising = rise_state_[i] == 1;
+    if (bubble_[i] && !rising && temperature_[i] > b.temperature + 0.5) rise_state_[i] = 1;
+    const bool done = temperature_[i] >= b.bubbles.end_temperature ||
+                      (bubble_[i] && rise_state_[i] == 1 && rho0 / rho_[i] >= b.bubbles.max_expansion);
+    if (done) {
+      rise_state_[i] = 2;
+      set_density_[i] = std::min(rho_[i], rho0);
+    }
+  }, 4096);
 }
 
 void SphSolver::check_finite() {
@@ -490,7 +781,7 @@ std::vector<std::pair<std::string, Real>> SphSolver::time_step_bounds() const {
   const Settings& s = setup_.settings;
   const Real hs = 0.5 * h_;  // classical smoothing length ħ
   struct Extremes {
-    Real v2 = 0, a2 = 0, nu = 0;
+    Real v2 = 0, a2 = 0, nu = 0, shear = 0;
   };
   const Extremes e = deterministic_reduce(
       x_.size(), Extremes{},
@@ -500,21 +791,25 @@ std::vector<std::pair<std::string, Real>> SphSolver::time_step_bounds() const {
           r.v2 = std::max(r.v2, v_[i].squaredNorm());
           r.a2 = std::max(r.a2, a_[i].squaredNorm());
           r.nu = std::max(r.nu, mu_[i] / rho_[i]);
+          r.shear = std::max(r.shear, elasticity_[i] / rho_[i]);
         }
         return r;
       },
       [](Extremes a, Extremes b) {
-        return Extremes{std::max(a.v2, b.v2), std::max(a.a2, b.a2), std::max(a.nu, b.nu)};
+        return Extremes{std::max(a.v2, b.v2), std::max(a.a2, b.a2), std::max(a.nu, b.nu), std::max(a.shear, b.shear)};
       });
   std::vector<std::pair<std::string, Real>> bounds;
   bounds.emplace_back("max_dt", s.max_dt);
   bounds.emplace_back("cfl", s.cfl * hs / (s.speed_of_sound + std::sqrt(e.v2)));
-  if (e.nu > 0) bounds.emplace_back("viscosity", s.viscous_factor * hs * hs / e.nu);
+  // Shear waves of the Maxwell stress travel at sqrt(μ_e/ρ).
+  if (e.shear > 0) bounds.emplace_back("elastic", s.cfl * hs / std::sqrt(e.shear));
+  if (e.nu > 0 && !implicit_viscosity_) bounds.emplace_back("viscosity", s.viscous_factor * hs * hs / e.nu);
   if (e.a2 > 0) bounds.emplace_back("force", s.force_factor * std::sqrt(hs / std::sqrt(e.a2)));
   if (s.heat_conduction) {
     Real alpha = 0;  // thermal diffusivity k / (ρ c_p), largest over materials
     for (const Material& m : setup_.materials)
       alpha = std::max(alpha, m.conductivity / (m.rest_density * m.specific_heat));
+    alpha *= setup_.environment.bake_time_scale;  // heat runs on the bake clock
     if (alpha > 0) bounds.emplace_back("conduction", s.conduction_factor * hs * hs / alpha);
   }
   return bounds;
@@ -537,10 +832,13 @@ void SphSolver::step(Real dt) {
   phase_collide();
   phase_neighbours();
   phase_density();
+  phase_surface();
+  phase_stress(dt);
   phase_pressure();
   phase_forces();
   phase_kick(dt);
   phase_xsph();
+  phase_viscosity(dt);
   phase_heat(dt);
   phase_properties();
   time_ += dt;

@@ -7,14 +7,21 @@
 //   sort      particles by cell (memory order)
 //   neighbours neighbour lists                             (3.1.2)
 //   density   ρ = Σ m W (+ wall half-space)               (Eq 3.13)
-//   pressure  Tait                                        (Eq 3.17)
-//   forces    pressure, viscosity, artificial viscosity,
-//             surface tension, gravity                     (Eq 3.18, 3.19, 3.35–3.41, 3.28–3.30)
+//   surface   colour gradient, surface particles, areas   (3.1.8, Eq 3.28, 3.43)
+//   stress    Maxwell viscoelastic stress update           (Eq 3.20–3.27)
+//   pressure  Tait, bubbles, risen Tait                    (Eq 3.17, 3.48–3.52)
+//   forces    pressure, stress divergence, viscosity,
+//             artificial viscosity, surface tension,
+//             gravity                                      (Eq 3.18, 2.18, 3.19, 3.35–3.41, 3.28–3.30)
 //   kick      v += ½dt a
 //   xsph      velocity correction                          (Eq 3.34)
-//   heat      conduction between particles                 (Eq 3.45–3.46)
-//   properties temperature-dependent μ and ε               (Eq 4.1, 4.4)
+//   viscosity implicit viscous velocity update (optional)  (Eq 3.19, backward Euler)
+//   heat      conduction and exchange with air/colliders   (Eq 3.42–3.46)
+//   properties temperature-dependent μ, μ_e, λ, ε; rise
+//             state of bubble particles                    (Eq 4.1–4.4, 3.52)
+#include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -25,6 +32,7 @@
 #include "physics/curves.hpp"
 #include "sph/kernels.hpp"
 #include "sph/neighbours.hpp"
+#include "sph/surface_detection.hpp"
 
 namespace bakesim::sph {
 
@@ -36,6 +44,24 @@ struct Material {
   TemperatureCurve xsph = ConstantCurve{0.0};        // velocity tuner ε(T), clamped to [0, 1] (Eq 4.4)
   Real specific_heat = 4181.0;  // J/(kg·K)
   Real conductivity = 0.6;      // W/(m·K)
+  // Maxwell viscoelasticity (Eq 3.20): elasticity μ_e(T) in Pa (0: no
+  // viscoelastic stress) and relaxation time λ(T) in s (Eq 4.2, 4.3).
+  TemperatureCurve elasticity = ConstantCurve{0.0};
+  TemperatureCurve relaxation_time = ConstantCurve{1.0};
+};
+
+enum class BubbleDistribution { uniform, centred, layered, region };
+
+// Which particles of a body are bubbles (thesis 3.3.3), and how they rise.
+struct BubbleSpec {
+  Real fraction = 0.0;  // share of the body's particles (of the chosen zone)
+  BubbleDistribution distribution = BubbleDistribution::uniform;
+  std::uint64_t seed = 1;
+  int layers = 4;                     // layered: slabs along the vertical, odd ones hold bubbles
+  std::optional<Shape> region;        // region: bubbles only inside this shape
+  std::optional<Real> pressure_scale; // B of Eq 3.48 for bubbles, Pa (default: the material's Tait B)
+  Real max_expansion = 3.0;           // a bubble stops rising when ρ0/ρ reaches this
+  Real end_temperature = 100.0;       // °C: the rise ends (Eq 3.52 takes over) for every particle of the body
 };
 
 struct Body {
@@ -46,6 +72,21 @@ struct Body {
   Real temperature = 20.0;  // °C
   Vec3 velocity = Vec3::Zero();
   bool hold_temperature = false;  // a thermostat: conducts, but keeps its temperature
+  BubbleSpec bubbles;
+};
+
+enum class ViscositySolver { explicit_euler, implicit, automatic };
+ViscositySolver parse_viscosity_solver(const std::string& name);
+std::string to_string(ViscositySolver v);
+
+// Oven air and the bake clock (docs/physics.md, "bake clock"): heat and gas
+// rates run `bake_time_scale` times faster than the mechanics, so a real
+// bake of scale × T seconds is simulated in T seconds of mechanics. The air
+// temperature schedule is given in bake time.
+struct Environment {
+  PiecewiseLinear air_temperature = PiecewiseLinear::constant(20.0);  // °C over bake time (s)
+  Real heat_transfer_coefficient = 10.0;  // W/(m² K), air to surface particles
+  Real bake_time_scale = 1.0;
 };
 
 struct Settings {
@@ -58,6 +99,13 @@ struct Settings {
   bool wall_density_correction = true;
   Real av_alpha = 0.0, av_beta = 1.0, av_epsilon = 0.01;  // Eq 3.36–3.37
   Real surface_threshold = 0.1;  // |∇C| · h above which surface tension acts (Eq 3.30)
+  SurfaceMethod surface_method = SurfaceMethod::colour;
+  Real surface_colour_threshold = 0.75;  // |∇C| · h at or above which a particle is on the surface
+  Real surface_hull_threshold = 0.5;     // hull boundary closer than this × spacing: on the surface
+  int surface_every = 1;                 // steps between surface detections
+  ViscositySolver viscosity_solver = ViscositySolver::automatic;
+  Real implicit_tolerance = 1e-6;        // relative residual of the implicit viscosity solve
+  int implicit_max_iterations = 500;
   Real cfl = 0.4;
   bool heat_conduction = true;
   Real conduction_factor = 0.1;
@@ -72,6 +120,7 @@ struct Setup {
   std::vector<Body> bodies;
   std::vector<Collider> colliders;
   Aabb domain;
+  Environment environment;
   Real domain_friction = 0.0;
   Real domain_damping = 1.0;
   Vec3 gravity = Vec3(0, -9.81, 0);
@@ -98,6 +147,16 @@ class SphSolver final : public Solver {
   Real particle_mass(int material) const;
   const NeighbourLists& neighbours() const { return lists_; }
   long steps() const { return steps_; }
+  Real bake_time() const { return time_ * setup_.environment.bake_time_scale; }
+  bool implicit_viscosity() const { return implicit_viscosity_; }
+  int last_viscosity_iterations() const { return viscosity_iterations_; }
+  // Heat that entered through the surface (air and colliders) since the start, J.
+  Real exchanged_heat() const { return exchanged_heat_; }
+  // Viscoelastic stress of particle i (symmetric, Pa).
+  Mat3 stress(std::size_t i) const;
+  void set_stress(std::size_t i, const Mat3& s);
+  // Velocity gradient L_ab = ∂v_a/∂x_b at particle i (Eq 3.27).
+  Mat3 velocity_gradient(std::size_t i) const;
   std::size_t body_particle_count(std::size_t body) const { return body_counts_.at(body); }
 
   // Recomputes neighbours, density, pressure and accelerations for the current
@@ -110,14 +169,19 @@ class SphSolver final : public Solver {
   void check_initial_overlaps() const;
   void phase_neighbours();
   void phase_density();
+  void phase_surface();
+  void phase_stress(Real dt);
   void phase_pressure();
   void phase_forces();
   void phase_kick(Real dt);
   void phase_drift(Real dt);
   void phase_collide();
   void phase_xsph();
+  void phase_viscosity(Real dt);
   void phase_heat(Real dt);
   void phase_properties();
+  void assign_bubbles();
+  bool any_elastic() const;
   void check_finite();
   // Share of particle i's kernel beyond all analytic walls, 1 − Π(1 − f_k),
   // and its gradient (walls combined as independent events, exact for a
@@ -138,6 +202,10 @@ class SphSolver final : public Solver {
   std::vector<Real> tait_b_;     // per material
   std::vector<Real> mass_;       // per material
   std::vector<Real> conductivity_;  // per material, read per neighbour pair in the heat phase
+  std::vector<Real> bubble_b_;      // per body: B of Eq 3.48
+  bool implicit_viscosity_ = false;
+  int viscosity_iterations_ = 0;
+  Real exchanged_heat_ = 0.0;
 
   ParticleSet particles_;
   std::vector<Vec3>& x_;
@@ -149,6 +217,15 @@ class SphSolver final : public Solver {
   std::vector<Real>& temperature_;
   std::vector<Real>& mu_;
   std::vector<Real>& eps_;
+  std::vector<Real>& elasticity_;   // μ_e
+  std::vector<Real>& relaxation_;   // λ
+  std::vector<Vec3>& stress_diag_;  // S_xx, S_yy, S_zz
+  std::vector<Vec3>& stress_off_;   // S_xy, S_xz, S_yz
+  std::vector<Real>& area_;         // exchange area of surface particles, m²
+  std::vector<Real>& set_density_;  // ρ_f of Eq 3.52
+  std::vector<std::int32_t>& surface_;
+  std::vector<std::int32_t>& bubble_;
+  std::vector<std::int32_t>& rise_state_;  // 0 before the rise, 1 rising (bubbles), 2 risen (Eq 3.52)
   std::vector<std::int32_t>& material_;
   std::vector<std::int32_t>& body_;
   std::vector<std::int32_t>& id_;
@@ -161,13 +238,18 @@ class SphSolver final : public Solver {
   std::vector<Real> dtemp_;   // temperature change of the heat phase
   std::vector<Real> p_over_rho2_;  // P/ρ², per particle (pressure phase)
   std::vector<Real> volume_;       // m/ρ, per particle (pressure phase)
+  std::vector<Vec3> colour_grad_;  // Σ V_j ∇W_ij (points into the fluid), surface phase
+  std::vector<Mat3> stress_rho2_;  // S/ρ², per particle (pressure phase)
+  std::vector<double> pair_visc_;  // implicit viscosity weights, layout of lists_
+  std::vector<Vec3> cg_r_, cg_z_, cg_p_, cg_ap_;
   // Per neighbour pair, in the layout of lists_ (computed by the density
   // phase, valid until positions change): W(r) and W'(r)/r.
   std::vector<float> pair_w_, pair_dwr_;
   std::vector<std::size_t> body_counts_;
 
   PhaseTimers timers_;
-  int t_kick_, t_drift_, t_collide_, t_sort_, t_neigh_, t_density_, t_pressure_, t_forces_, t_xsph_, t_heat_, t_properties_, t_check_;
+  int t_kick_, t_drift_, t_collide_, t_sort_, t_neigh_, t_density_, t_surface_, t_stress_, t_pressure_, t_forces_, t_xsph_,
+      t_viscosity_, t_heat_, t_properties_, t_check_;
   Real time_ = 0.0;
   long steps_ = 0;
   std::string dt_bound_ = "cfl";

@@ -40,6 +40,8 @@ json slab_scene(bool hold_faces) {
   return {{"solver", {{"type", "sph"}, {"sph", {{"spacing", kS}}}}},
           {"time", {{"end", 1.0}}},
           {"gravity", {0, 0, 0}},
+          // Conduction only: no exchange with the air at the slab's free faces.
+          {"environment", {{"heat_transfer_coefficient", 0.0}}},
           {"domain", {{"min", {-kL - 0.01, 0, 0}}, {"max", {kL + 0.01, kSide, kSide}}}},
           // α = k/(ρ c_p) = 2e-4 m²/s, so the slab heats through in about a second.
           {"materials", {{"metal", {{"density", 1000.0}, {"specific_heat", 1000.0}, {"conductivity", 200.0}}}}},
