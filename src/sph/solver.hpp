@@ -100,7 +100,7 @@ struct Settings {
   Real av_alpha = 0.0, av_beta = 1.0, av_epsilon = 0.01;  // Eq 3.36–3.37
   Real surface_threshold = 0.1;  // |∇C| · h above which surface tension acts (Eq 3.30)
   SurfaceMethod surface_method = SurfaceMethod::colour;
-  Real surface_colour_threshold = 0.75;  // |∇C| · h at or above which a particle is on the surface
+  Real surface_colour_threshold = 0.6;   // |∇C| · h at or above which a particle is on the surface
   Real surface_hull_threshold = 0.5;     // hull boundary closer than this × spacing: on the surface
   int surface_every = 1;                 // steps between surface detections
   ViscositySolver viscosity_solver = ViscositySolver::automatic;

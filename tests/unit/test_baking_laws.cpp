@@ -1,0 +1,106 @@
+// Baking laws against closed-form solutions: the Maxwell stress (thesis
+// Eq 3.20–3.27), convective exchange (Eq 3.42) and the bubble gas law (Eq 3.48–3.51).
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+
+#include "physics/bubbles.hpp"
+#include "physics/heat.hpp"
+#include "physics/maxwell.hpp"
+
+using namespace bakesim;
+
+TEST(MaxwellStress, RelaxesAsExpUnderZeroStrainRate) {
+  Mat3 s;
+  s << 100, 30, -20, 30, -50, 10, -20, 10, 40;
+  const Mat3 s0 = s;
+  const Real lambda = 0.7, dt = 1e-3;
+  for (int k = 1; k <= 2000; ++k) {
+    s = maxwell_stress_step(s, Mat3::Zero(), 1e4, lambda, dt);
+    if (k % 500 == 0) {
+      const Mat3 expected = s0 * std::exp(-k * dt / lambda);
+      EXPECT_LT((s - expected).norm(), 1e-10 * s0.norm()) << "t = " << k * dt;
+    }
+  }
+}
+
+TEST(MaxwellStress, PureExtensionApproachesViscousLimit) {
+  // L = diag(ė, −ė, 0): W = 0, D' = diag(ė, −ė, 0), so from rest
+  // S_xx(t) = μ_e λ ė (1 − e^{−t/λ}) and S_yy = −S_xx, S_zz = 0.
+  const Real mu_e = 50.0, lambda = 0.2, rate = 0.3, dt = 2e-4;
+  Mat3 l = Mat3::Zero();
+  l(0, 0) = rate;
+  l(1, 1) = -rate;
+  Mat3 s = Mat3::Zero();
+  for (int k = 1; k <= 5000; ++k) {
+    s = maxwell_stress_step(s, l, mu_e, lambda, dt);
+    const Real t = k * dt;
+    const Real expected = mu_e * lambda * rate * (1 - std::exp(-t / lambda));
+    ASSERT_NEAR(s(0, 0), expected, 1e-9 * mu_e * lambda * rate);
+    ASSERT_NEAR(s(1, 1), -expected, 1e-9 * mu_e * lambda * rate);
+    ASSERT_NEAR(s(2, 2), 0.0, 1e-12);
+  }
+}
+
+TEST(MaxwellStress, DeviatorIsTracelessAndExpansionMakesNoStress) {
+  // Uniform expansion (a rising dough) has no deviatoric strain rate.
+  const MaxwellRates r = maxwell_rates(Mat3::Zero(), 0.4 * Mat3::Identity());
+  EXPECT_NEAR(r.strain_rate_deviator.norm(), 0.0, 1e-15);
+  Mat3 l;
+  l << 1, 2, 3, 4, 5, 6, 7, 8, 10;
+  EXPECT_NEAR(maxwell_rates(Mat3::Zero(), l).strain_rate_deviator.trace(), 0.0, 1e-14);
+}
+
+TEST(MaxwellStress, RigidRotationRotatesTheStress) {
+  // L = skew(ω): the co-rotational term alone rotates S with the body, so
+  // after turning by θ about z, S = R(θ) S0 R(θ)ᵀ (objectivity of Eq 3.21).
+  Mat3 s0;
+  s0 << 10, 2, 0, 2, -4, 1, 0, 1, 3;
+  const Real omega = 2.0, dt = 1e-5, t_end = 0.5;
+  Mat3 l = Mat3::Zero();
+  l(0, 1) = -omega;
+  l(1, 0) = omega;  // v = ω × x about z
+  Mat3 s = s0;
+  const int steps = static_cast<int>(std::lround(t_end / dt));
+  for (int k = 0; k < steps; ++k) {
+    // Midpoint (RK2) of dS/dt = W S − S W to see the rotation, not Euler's drift.
+    const Mat3 mid = s + 0.5 * dt * maxwell_stress_rate(s, l, 0.0, 1e30);
+    s += dt * maxwell_stress_rate(mid, l, 0.0, 1e30);
+  }
+  const Mat3 rot = Eigen::AngleAxis<Real>(omega * t_end, Vec3::UnitZ()).toRotationMatrix();
+  EXPECT_LT((s - rot * s0 * rot.transpose()).norm(), 1e-6 * s0.norm());
+}
+
+TEST(MaxwellStress, StressRateMatchesFiniteDifferenceOfTheStep) {
+  Mat3 s, l;
+  s << 5, 1, 2, 1, -3, 0.5, 2, 0.5, 1;
+  l << 0.3, -0.2, 0.1, 0.4, -0.1, 0.2, -0.3, 0.05, -0.2;
+  const Real mu_e = 20, lambda = 1.5, dt = 1e-6;
+  const Mat3 fd = (maxwell_stress_step(s, l, mu_e, lambda, dt) - s) / dt;
+  EXPECT_LT((fd - maxwell_stress_rate(s, l, mu_e, lambda)).norm(), 1e-4);
+}
+
+TEST(HeatExchange, MatchesTheLumpedExponential) {
+  // m c dT/dt = h A (T_ext − T): T(t) = T_ext + (T0 − T_ext) e^{−hA t/(m c)},
+  // for any number of steps.
+  const Real hA = 0.02, mc = 3.0, t0 = 20, outside = 200;
+  Real t = t0;
+  for (int k = 0; k < 37; ++k) t = exchange_temperature(t, outside, hA, mc, 1.3);
+  EXPECT_NEAR(t, outside + (t0 - outside) * std::exp(-hA * 37 * 1.3 / mc), 1e-9);
+  // A huge step lands on T_ext, never beyond.
+  EXPECT_NEAR(exchange_temperature(t0, outside, hA, mc, 1e9), outside, 1e-12);
+  EXPECT_DOUBLE_EQ(exchange_temperature(t0, outside, 0.0, mc, 10), t0);
+}
+
+TEST(Bubbles, GasLawUsesKelvin) {
+  // 26 °C → 100 °C: V = 373.15 / 299.15.
+  EXPECT_NEAR(bubble_volume_ratio(100, 26), 373.15 / 299.15, 1e-12);
+  EXPECT_DOUBLE_EQ(bubble_volume_ratio(26, 26), 1.0);
+  // Eq 3.48: no extra pressure before heating, and the throttle ρ/ρ0.
+  EXPECT_DOUBLE_EQ(bubble_pressure(1000, 900, 1000, 26, 26), 0.0);
+  EXPECT_NEAR(bubble_pressure(1000, 500, 1000, 100, 26), 1000 * 0.5 * (373.15 / 299.15 - 1), 1e-9);
+  // Eq 3.52: zero pressure at the risen density ρ_f.
+  EXPECT_DOUBLE_EQ(tait_pressure(1000, 400, 400, 7), 0.0);
+  EXPECT_NEAR(tait_pressure(1000, 440, 400, 7), 1000 * (std::pow(1.1, 7) - 1), 1e-9);
+}

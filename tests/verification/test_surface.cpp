@@ -1,0 +1,82 @@
+// Surface particles (thesis 3.1.8) on a particle sphere: the outer shell is
+// flagged and the interior is not, by both methods; and the exchange areas
+// of the flagged particles add up to the sphere's surface area.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "helpers.hpp"
+
+using namespace bakesim;
+using nlohmann::json;
+
+namespace {
+
+constexpr double kR = 0.02, kS = 0.002;
+
+json sphere_scene(const std::string& method) {
+  return {{"solver", {{"type", "sph"}, {"sph", {{"spacing", kS}, {"surface", {{"method", method}}}}}}},
+          {"time", {{"end", 1.0}}},
+          {"gravity", {0, 0, 0}},
+          {"domain", {{"min", {-0.05, -0.05, -0.05}}, {"max", {0.05, 0.05, 0.05}}}},
+          {"materials", {{"dough", json::object()}}},
+          {"bodies", json::array({{{"name", "ball"}, {"material", "dough"},
+                                   {"shape", {{"type", "sphere"}, {"center", {0, 0, 0}}, {"radius", kR}}}}})}};
+}
+
+struct Agreement {
+  double agreement;    // share of particles classified as expected
+  double shell_found;  // share of the outer shell flagged
+  double area;         // Σ area of flagged particles
+};
+
+// Expected: the outer shell is the particles within one spacing of the
+// outermost particle radius; everything deeper than 1.5 spacings is interior.
+// The band between is not scored (either answer is fair there).
+Agreement classify(const std::string& method) {
+  auto solver = test_support::make_sph(sphere_scene(method));
+  const auto& ps = solver->particles();
+  const auto& x = ps.vector("position");
+  const auto& surface = ps.integer("surface");
+  const auto& area = ps.scalar("surface_area");
+  double rmax = 0;
+  for (const Vec3& p : x) rmax = std::max(rmax, p.norm());
+  int scored = 0, right = 0, shell = 0, shell_flagged = 0;
+  double total_area = 0;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    total_area += area[i];
+    const double depth = rmax - x[i].norm();
+    if (depth < 0.6 * kS) {
+      ++scored;
+      ++shell;
+      right += surface[i];
+      shell_flagged += surface[i];
+    } else if (depth > 1.5 * kS) {
+      ++scored;
+      right += 1 - surface[i];
+    }
+  }
+  return {double(right) / scored, double(shell_flagged) / shell, total_area};
+}
+
+}  // namespace
+
+TEST(SurfaceParticles, ColourFieldFindsTheSphereShell) {
+  const Agreement a = classify("colour");
+  RecordProperty("agreement", std::to_string(a.agreement));
+  EXPECT_GE(a.agreement, 0.95);
+  EXPECT_GE(a.shell_found, 0.95);
+  const double true_area = 4 * kPi * kR * kR;
+  RecordProperty("area_ratio", std::to_string(a.area / true_area));
+  EXPECT_NEAR(a.area / true_area, 1.0, 0.10);
+}
+
+TEST(SurfaceParticles, ConvexHullFindsTheSphereShell) {
+  const Agreement a = classify("convex_hull");
+  RecordProperty("agreement", std::to_string(a.agreement));
+  EXPECT_GE(a.agreement, 0.95);
+  EXPECT_GE(a.shell_found, 0.95);
+  const double true_area = 4 * kPi * kR * kR;
+  RecordProperty("area_ratio", std::to_string(a.area / true_area));
+  EXPECT_NEAR(a.area / true_area, 1.0, 0.10);
+}
