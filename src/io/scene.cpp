@@ -164,9 +164,10 @@ json dough_preset() {
 
 void apply_material_presets(json& doc) {
   if (!doc.contains("materials") || !doc["materials"].is_object()) return;
+  const json preset = dough_preset();
   for (auto& [name, m] : doc["materials"].items()) {
     if (!m.is_object() || !m.contains("preset") || m["preset"] != "dough") continue;
-    for (const auto& [key, value] : dough_preset().items())
+    for (const auto& [key, value] : preset.items())
       if (!m.contains(key)) m[key] = value;
   }
 }

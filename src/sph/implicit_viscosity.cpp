@@ -79,10 +79,15 @@ void SphSolver::phase_viscosity(Real dt) {
     cg_z_[i] = cg_r_[i] / diag[i];
     cg_p_[i] = cg_z_[i];
   }, 4096);
-  const Vec3 b_norm2 = sum_blocks(n, [&](std::size_t i) { return Vec3((m_[i] * v_[i]).cwiseAbs2()); });
+  // Residuals are measured against the momentum M v* plus the momentum one
+  // step of gravity adds (m g dt per particle): a body nearly at rest then
+  // does not demand a solve far below what its next step changes anyway.
+  const Real floor_v = std::max(setup_.gravity.norm(), 1.0) * dt;
+  const Vec3 b_norm2 = sum_blocks(n, [&](std::size_t i) {
+    return Vec3((m_[i] * v_[i]).cwiseAbs2() + Vec3::Constant(m_[i] * m_[i] * floor_v * floor_v));
+  });
   const Real tol = setup_.settings.implicit_tolerance;
-  // Per-component stop: |r|² ≤ tol² (|b|² + tiny), tiny guards a body at rest.
-  const Vec3 stop = (tol * tol) * (b_norm2.array() + 1e-30).matrix();
+  const Vec3 stop = (tol * tol) * b_norm2;
   Vec3 rz = sum_blocks(n, [&](std::size_t i) { return Vec3(cg_r_[i].cwiseProduct(cg_z_[i])); });
   Vec3 r2 = sum_blocks(n, [&](std::size_t i) { return Vec3(cg_r_[i].cwiseAbs2()); });
   const int max_it = setup_.settings.implicit_max_iterations;
