@@ -136,7 +136,7 @@ TEST(BakingPhysics, HotTrayHeatsTheBottomFirst) {
 TEST(BakingPhysics, SetDoughHoldsItsShapeUnderGravity) {
   // Above T_f the dough of Table 4.1 has μ_e = 5e4 Pa, λ ≈ 900 s and
   // μ = 5e3 Pa·s: a 3 cm block must not sag by 5% in a second.
-  json scene = block_scene(0.002);
+  json scene = block_scene(0.003);
   scene["gravity"] = {0, -9.81, 0};
   scene["environment"] = {{"air_temperature", 130.0}, {"heat_transfer_coefficient", 0.0}};
   scene["solver"]["sph"]["speed_of_sound"] = 10.0;
