@@ -383,12 +383,25 @@ std::string describe(const Scene& scene, Solver& solver) {
   out += fmt::format("spacing    {} m, support h = {} m, speed of sound {:.3g} m/s, neighbour search {}\n", st.spacing,
                      st.spacing * st.smoothing_ratio, st.speed_of_sound, sph::to_string(st.search));
   const auto& sph_solver = dynamic_cast<const sph::SphSolver&>(solver);
+  out += fmt::format("viscosity  {} (setting: {})\n", sph_solver.implicit_viscosity() ? "implicit" : "explicit",
+                     sph::to_string(st.viscosity_solver));
+  out += fmt::format("surface    {} test\n", sph::to_string(st.surface_method));
+  if (scene.bake_time_scale != 1.0)
+    out += fmt::format("bake clock {} bake seconds per simulated second: {} s simulate {:.1f} min of baking\n",
+                       scene.bake_time_scale, scene.end_time, scene.end_time * scene.bake_time_scale / 60.0);
   out += fmt::format("particles  {} in total\n", solver.particles().size());
   for (std::size_t b = 0; b < scene.sph.bodies.size(); ++b) {
     const auto& body = scene.sph.bodies[b];
     out += fmt::format("  body {:<16} {:>9} particles  material {:<10} mass {:.4g} kg each, {:.1f} degC\n", "'" + body.name + "'",
                        sph_solver.body_particle_count(b), scene.sph.materials[body.material].name,
                        sph_solver.particle_mass(body.material), body.temperature);
+    if (body.bubbles.fraction > 0) {
+      const auto& bubble = solver.particles().integer("bubble");
+      const auto& owner = solver.particles().integer("body_id");
+      std::size_t count = 0;
+      for (std::size_t i = 0; i < bubble.size(); ++i) count += owner[i] == int(b) && bubble[i];
+      out += fmt::format("    {} bubble particles ({:.1f}%)\n", count, 100.0 * count / sph_solver.body_particle_count(b));
+    }
   }
   out += fmt::format("colliders  {}\n", scene.sph.colliders.size());
   for (const auto& c : scene.sph.colliders) out += fmt::format("  '{}' friction {} damping {}\n", c.name, c.friction, c.damping);

@@ -16,6 +16,10 @@
 namespace bakesim::sph {
 namespace {
 
+// Fewer neighbours than this (a full support holds about 33 at h = 2s) mark a
+// particle as surface whatever its colour gradient.
+constexpr std::uint32_t kSparseNeighbours = 6;
+
 bool is_mesh(const Collider& c) { return std::holds_alternative<MeshCollider>(c.geometry); }
 
 // Largest value a temperature curve takes (curves are monotone pieces, so
@@ -395,7 +399,11 @@ void SphSolver::phase_surface() {
   });
   if (s.surface_method == SurfaceMethod::colour) {
     const Real threshold = s.surface_colour_threshold;
-    parallel_for(n, [&](std::size_t i) { surface_[i] = colour_grad_[i].norm() * h_ >= threshold ? 1 : 0; }, 4096);
+    // A particle with almost no neighbours (blown off, or at the tip of an
+    // expanded bubble) has a vanishing gradient but is surface all the same.
+    parallel_for(n, [&](std::size_t i) {
+      surface_[i] = colour_grad_[i].norm() * h_ >= threshold || lists_.count(i) < kSparseNeighbours ? 1 : 0;
+    }, 4096);
   } else if (steps_ % s.surface_every == 0) {
     const Real threshold = s.surface_hull_threshold * s.spacing;
     struct Scratch {
