@@ -100,6 +100,8 @@ SphSolver::SphSolver(Setup setup)
     mass_.push_back(m.rest_density / lattice_sum_);
     conductivity_.push_back(m.conductivity);
   }
+  for (const Material& m : setup_.materials)
+    elastic_ |= !is_constant(m.elasticity) || std::get<ConstantCurve>(m.elasticity).value != 0.0;
   for (const Body& b : setup_.bodies)
     bubble_b_.push_back(b.bubbles.pressure_scale ? *b.bubbles.pressure_scale
                                                  : tait_b_.at(std::clamp<int>(b.material, 0, int(tait_b_.size()) - 1)));
@@ -270,11 +272,7 @@ void SphSolver::refresh() {
   phase_forces();
 }
 
-bool SphSolver::any_elastic() const {
-  for (const Material& m : setup_.materials)
-    if (!is_constant(m.elasticity) || std::get<ConstantCurve>(m.elasticity).value != 0.0) return true;
-  return false;
-}
+bool SphSolver::any_elastic() const { return elastic_; }
 
 Mat3 SphSolver::stress(std::size_t i) const {
   const Vec3& d = stress_diag_[i];

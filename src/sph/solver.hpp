@@ -204,6 +204,7 @@ class SphSolver final : public Solver {
   std::vector<Real> conductivity_;  // per material, read per neighbour pair in the heat phase
   std::vector<Real> bubble_b_;      // per body: B of Eq 3.48
   bool implicit_viscosity_ = false;
+  bool elastic_ = false;  // some material has a Maxwell stress (μ_e not identically 0)
   int viscosity_iterations_ = 0;
   Real exchanged_heat_ = 0.0;
 
