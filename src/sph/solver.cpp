@@ -100,6 +100,12 @@ SphSolver::SphSolver(Setup setup)
     mass_.push_back(m.rest_density / lattice_sum_);
     conductivity_.push_back(m.conductivity);
   }
+  for (std::size_t k = 0; k < setup_.materials.size(); ++k) {
+    // Eq 3.43: 4/3 π r³ = m/ρ0, area π r².
+    const Real r = std::cbrt(3.0 * mass_[k] / (4.0 * kPi * setup_.materials[k].rest_density));
+    exchange_area_.push_back(kPi * r * r);
+  }
+  for (const Collider& c : setup_.colliders) heated_colliders_ |= c.temperature.has_value();
   for (const Material& m : setup_.materials)
     elastic_ |= !is_constant(m.elasticity) || std::get<ConstantCurve>(m.elasticity).value != 0.0;
   for (const Body& b : setup_.bodies)
@@ -272,8 +278,6 @@ void SphSolver::refresh() {
   phase_forces();
 }
 
-bool SphSolver::any_elastic() const { return elastic_; }
-
 Mat3 SphSolver::stress(std::size_t i) const {
   const Vec3& d = stress_diag_[i];
   const Vec3& o = stress_off_[i];
@@ -350,7 +354,7 @@ void SphSolver::phase_pressure() {
   ScopedPhase t(timers_, t_pressure_);
   const Real gamma = setup_.settings.gamma;
   const bool clamp = setup_.settings.clamp_negative_pressure;
-  const bool elastic = any_elastic();
+  const bool elastic = elastic_;
   p_over_rho2_.resize(x_.size());
   volume_.resize(x_.size());
   if (elastic) stress_rho2_.resize(x_.size());
@@ -418,16 +422,14 @@ void SphSolver::phase_surface() {
     }, 64);
   }
   parallel_for(n, [&](std::size_t i) {
-    const Real rho0 = setup_.materials[material_[i]].rest_density;
-    const Real r = std::cbrt(3.0 * m_[i] / (4.0 * kPi * rho0));  // Eq 3.43
-    area_[i] = surface_[i] ? kPi * r * r : 0.0;
+    area_[i] = surface_[i] ? exchange_area_[material_[i]] : 0.0;
   }, 4096);
 }
 
 // Eq 3.20–3.27: the Maxwell stress follows the velocity gradient of the
 // half-step velocities at the new positions.
 void SphSolver::phase_stress(Real dt) {
-  if (!any_elastic()) return;
+  if (!elastic_) return;
   ScopedPhase t(timers_, t_stress_);
   parallel_for(x_.size(), [&](std::size_t i) {
     if (elasticity_[i] == 0.0 && stress_diag_[i].isZero() && stress_off_[i].isZero()) return;
@@ -456,7 +458,7 @@ void SphSolver::phase_forces() {
   const Real* p_rho2 = p_over_rho2_.data();
   const Real* vol = volume_.data();
   const bool explicit_visc = !implicit_viscosity_;
-  const bool elastic = any_elastic();
+  const bool elastic = elastic_;
   const Mat3* s_rho2 = elastic ? stress_rho2_.data() : nullptr;
   const Real visc_c = visc_lap_.coefficient();  // Eq 3.8 (all listed pairs have r < h)
   const Real lap_w0 = kernel_.laplacian(0.0);
@@ -675,14 +677,12 @@ void SphSolver::phase_heat(Real dt) {
   // External exchange (Eq 3.42 with the sign and heat capacity restored).
   const Real air = env.air_temperature(bake_time());
   const Real h_air = env.heat_transfer_coefficient;
-  bool heated_colliders = false;
-  for (const Collider& c : setup_.colliders) heated_colliders |= c.temperature.has_value();
   const Real touch = setup_.settings.spacing;  // contact: within one spacing of the collider surface
   parallel_for(n, [&](std::size_t i) {
     dtemp_[i] = 0.0;
     if (!surface_[i] || area_[i] <= 0 || setup_.bodies[body_[i]].hold_temperature) return;
     Real outside = air, coefficient = h_air;
-    if (heated_colliders) {
+    if (heated_colliders_) {
       bool found = false;
       for (const Collider& c : walls_) {
         if (!c.temperature || found) continue;

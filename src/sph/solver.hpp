@@ -181,7 +181,6 @@ class SphSolver final : public Solver {
   void phase_heat(Real dt);
   void phase_properties();
   void assign_bubbles();
-  bool any_elastic() const;
   void check_finite();
   // Share of particle i's kernel beyond all analytic walls, 1 − Π(1 − f_k),
   // and its gradient (walls combined as independent events, exact for a
@@ -205,6 +204,8 @@ class SphSolver final : public Solver {
   std::vector<Real> bubble_b_;      // per body: B of Eq 3.48
   bool implicit_viscosity_ = false;
   bool elastic_ = false;  // some material has a Maxwell stress (μ_e not identically 0)
+  bool heated_colliders_ = false;   // some collider carries a temperature
+  std::vector<Real> exchange_area_;  // per material: π r² of a surface particle (Eq 3.43)
   int viscosity_iterations_ = 0;
   Real exchanged_heat_ = 0.0;
 
