@@ -304,6 +304,17 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::s
   st.surface_hull_threshold = sj["surface"]["hull_threshold"].get<double>();
   st.surface_every = sj["surface"]["every_steps"].get<int>();
   st.viscosity_solver = sph::parse_viscosity_solver(sj["viscosity_solver"].get<std::string>());
+  {
+    const json& aj = sj["adaptive_smoothing"];
+    st.adaptive.enabled = aj["enabled"].get<bool>();
+    st.adaptive.geometric_mean = aj["reference"].get<std::string>() == "geometric_mean";
+    st.adaptive.sensitivity = aj["sensitivity"].get<double>();
+    st.adaptive.scale = aj["scale"].get<double>();
+    st.adaptive.min_ratio = aj["range"][0].get<double>();
+    st.adaptive.max_ratio = aj["range"][1].get<double>();
+    if (st.adaptive.min_ratio > st.adaptive.max_ratio)
+      throw InputError("solver.sph.adaptive_smoothing.range", "the lower limit exceeds the upper one");
+  }
   st.implicit_tolerance = sj["implicit_viscosity"]["tolerance"].get<double>();
   st.implicit_max_iterations = sj["implicit_viscosity"]["max_iterations"].get<int>();
   st.cfl = doc["solver"]["cfl"].get<double>();

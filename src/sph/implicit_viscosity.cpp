@@ -57,7 +57,9 @@ void SphSolver::phase_viscosity(Real dt) {
     Real d = m_[i];
     for (std::uint32_t k = 0; k < count; ++k) {
       const std::uint32_t j = nb[k];
-      w[k] = dt * 0.5 * (mu_[i] + mu_[j]) * vi * (m_[j] / rho_[j]) * visc_c * (h_ - Real(pr[k]));
+      const Real hij = adaptive_ ? 0.5 * (smoothing_[i] + smoothing_[j]) : h_;  // Eq 3.56
+      const Real vc = adaptive_ ? ViscosityLaplacian::coefficient_for(hij) : visc_c;
+      w[k] = dt * 0.5 * (mu_[i] + mu_[j]) * vi * (m_[j] / rho_[j]) * vc * (hij - Real(pr[k]));
       d += w[k];
     }
     diag[i] = d;

@@ -79,6 +79,10 @@ class ViscosityLaplacian {
   Real operator()(Real r) const { return r < h_ ? c_ * (h_ - r) : 0.0; }
   // 45/(π h⁶), for loops that already know r < h.
   Real coefficient() const { return c_; }
+  static Real coefficient_for(Real h) {
+    const Real h3 = h * h * h;
+    return 45.0 / (kPi * h3 * h3);
+  }
 
  private:
   Real h_, c_;

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <memory>
 #include <cmath>
 #include <numeric>
 
@@ -145,6 +146,35 @@ struct ForwardingResultSet {
 };
 }  // namespace
 
+void NeighbourSearch::find(const std::vector<Vec3>& x, const std::vector<Real>& support, NeighbourLists& lists) {
+  const std::size_t n = x.size();
+  Real h_max = 0;
+  for (Real h : support) h_max = std::max(h_max, h);
+  PointCloud cloud{x};
+  std::unique_ptr<KdTree> tree;
+  if (method_ == NeighbourMethod::kdtree) {
+    tree = std::make_unique<KdTree>(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+    tree->buildIndex();
+  }
+  fill(n, lists, [&](std::size_t i, auto&& emit) {
+    const Vec3 xi = x[i];
+    const Real hi = support[i];
+    // No pair reaches beyond (h_i + h_max)/2.
+    const Real radius = 0.5 * (hi + h_max);
+    auto test = [&](std::uint32_t j, Real d2) {
+      const Real hij = 0.5 * (hi + support[j]);
+      if (d2 < hij * hij && j != i) emit(j, d2);
+    };
+    if (!tree) {
+      grid_.for_each_within(xi, radius, [&](std::uint32_t j) { test(j, (xi - x[j]).squaredNorm()); });
+    } else {
+      ForwardingResultSet<decltype(test)> rs{radius * radius, static_cast<std::uint32_t>(i), test};
+      tree->findNeighbors(rs, xi.data(), nanoflann::SearchParams(32, 0, false));
+    }
+  });
+  if (tree) sort_lists(lists);
+}
+
 void NeighbourSearch::find(const std::vector<Vec3>& x, NeighbourLists& lists) {
   const Real h2 = h_ * h_;
   const std::size_t n = x.size();
@@ -178,22 +208,27 @@ void NeighbourSearch::find(const std::vector<Vec3>& x, NeighbourLists& lists) {
       ForwardingResultSet<std::remove_reference_t<decltype(emit)>> rs{h2, static_cast<std::uint32_t>(i), emit};
       tree.findNeighbors(rs, x[i].data(), nanoflann::SearchParams(32, 0, false));
     });
-    // Sort each list (with its distances) so the summation order matches the grid search's.
-    parallel_blocks(n, [&](std::size_t b, std::size_t e) {
-      std::vector<std::pair<std::uint32_t, float>> pairs;
-      for (std::size_t i = b; i < e; ++i) {
-        std::uint32_t* ids = lists.ids_.data() + i * lists.stride_;
-        float* dist = lists.dist_.data() + i * lists.stride_;
-        pairs.clear();
-        for (std::uint32_t k = 0; k < lists.count_[i]; ++k) pairs.emplace_back(ids[k], dist[k]);
-        std::sort(pairs.begin(), pairs.end());
-        for (std::uint32_t k = 0; k < lists.count_[i]; ++k) {
-          ids[k] = pairs[k].first;
-          dist[k] = pairs[k].second;
-        }
-      }
-    });
+    sort_lists(lists);
   }
+}
+
+// Sorts each list (with its distances) so the summation order of the kd-tree
+// search matches the grid search's.
+void NeighbourSearch::sort_lists(NeighbourLists& lists) {
+  parallel_blocks(lists.size(), [&](std::size_t b, std::size_t e) {
+    std::vector<std::pair<std::uint32_t, float>> pairs;
+    for (std::size_t i = b; i < e; ++i) {
+      std::uint32_t* ids = lists.ids_.data() + i * lists.stride_;
+      float* dist = lists.dist_.data() + i * lists.stride_;
+      pairs.clear();
+      for (std::uint32_t k = 0; k < lists.count_[i]; ++k) pairs.emplace_back(ids[k], dist[k]);
+      std::sort(pairs.begin(), pairs.end());
+      for (std::uint32_t k = 0; k < lists.count_[i]; ++k) {
+        ids[k] = pairs[k].first;
+        dist[k] = pairs[k].second;
+      }
+    }
+  });
 }
 
 NeighbourLists brute_force_neighbours(const std::vector<Vec3>& x, Real support) {

@@ -81,12 +81,16 @@ class NeighbourSearch {
   void sort_order(const std::vector<Vec3>& x, std::vector<std::uint32_t>& order);
   // Fills lists for positions already permuted by the last sort_order().
   void find(const std::vector<Vec3>& x, NeighbourLists& lists);
+  // Variable support (Eq 3.56): j is a neighbour of i when |x_i − x_j| <
+  // (h_i + h_j)/2, so lists stay symmetric. `support` is permuted with x.
+  void find(const std::vector<Vec3>& x, const std::vector<Real>& support, NeighbourLists& lists);
   const CellGrid& grid() const { return grid_; }
   Real support() const { return h_; }
 
  private:
   template <class Query>
   void fill(std::size_t n, NeighbourLists& lists, Query&& query);
+  static void sort_lists(NeighbourLists& lists);
   NeighbourMethod method_;
   Real h_;
   CellGrid grid_;

@@ -85,6 +85,7 @@ SphSolver::SphSolver(Setup setup)
       stress_diag_(particles_.add_vector("stress_normal", "Pa")),
       stress_off_(particles_.add_vector("stress_shear", "Pa")),
       area_(particles_.add_scalar("surface_area", "m^2")),
+      smoothing_(particles_.add_scalar("smoothing_length", "m")),
       set_density_(particles_.add_scalar("set_density", "kg/m^3", false)),
       surface_(particles_.add_int("surface")),
       bubble_(particles_.add_int("bubble")),
@@ -106,6 +107,7 @@ SphSolver::SphSolver(Setup setup)
     exchange_area_.push_back(kPi * r * r);
   }
   for (const Collider& c : setup_.colliders) heated_colliders_ |= c.temperature.has_value();
+  adaptive_ = s.adaptive.enabled;
   for (const Material& m : setup_.materials)
     elastic_ |= !is_constant(m.elasticity) || std::get<ConstantCurve>(m.elasticity).value != 0.0;
   for (const Body& b : setup_.bodies)
@@ -139,6 +141,7 @@ SphSolver::SphSolver(Setup setup)
   t_viscosity_ = timers_.add("viscosity");
   t_heat_ = timers_.add("heat");
   t_properties_ = timers_.add("properties");
+  t_smoothing_ = timers_.add("smoothing");
   t_check_ = timers_.add("check");
 
   seed_particles();
@@ -218,6 +221,7 @@ void SphSolver::seed_particles() {
       stress_diag_[k].setZero();
       stress_off_[k].setZero();
       set_density_[k] = mat.rest_density;
+      smoothing_[k] = h_;
       material_[k] = b.material;
       body_[k] = static_cast<std::int32_t>(bi);
       id_[k] = static_cast<std::int32_t>(k);
@@ -314,7 +318,10 @@ void SphSolver::phase_neighbours() {
     particles_.permute(order_);
   }
   ScopedPhase t(timers_, t_neigh_);
-  search_.find(x_, lists_);
+  if (adaptive_)
+    search_.find(x_, smoothing_, lists_);
+  else
+    search_.find(x_, lists_);
   parallel_for(x_.size(), [&](std::size_t i) { ncount_[i] = static_cast<std::int32_t>(lists_.count(i)); }, 4096);
 }
 
@@ -336,12 +343,25 @@ void SphSolver::phase_density() {
     const float* pr = lists_.distances(i);
     float* pw = pair_w_.data() + i * stride;
     float* pd = pair_dwr_.data() + i * stride;
-    for (std::uint32_t k = 0; k < count; ++k) {
-      const Real r = pr[k];
-      const Real w = kernel_.w(r);
-      rho += m[nb[k]] * w;
-      pw[k] = static_cast<float>(w);
-      pd[k] = static_cast<float>(r > 0 ? kernel_.dw_dr_over_r(r) : 0.0);
+    if (adaptive_) {
+      // Eq 3.56: the pair's kernel has support (h_i + h_j)/2; the self term h_i.
+      rho = m[i] * CubicSpline(smoothing_[i]).w(0.0);
+      for (std::uint32_t k = 0; k < count; ++k) {
+        const Real r = pr[k];
+        const CubicSpline pair_kernel(0.5 * (smoothing_[i] + smoothing_[nb[k]]));
+        const Real w = pair_kernel.w(r);
+        rho += m[nb[k]] * w;
+        pw[k] = static_cast<float>(w);
+        pd[k] = static_cast<float>(r > 0 ? pair_kernel.dw_dr_over_r(r) : 0.0);
+      }
+    } else {
+      for (std::uint32_t k = 0; k < count; ++k) {
+        const Real r = pr[k];
+        const Real w = kernel_.w(r);
+        rho += m[nb[k]] * w;
+        pw[k] = static_cast<float>(w);
+        pd[k] = static_cast<float>(r > 0 ? kernel_.dw_dr_over_r(r) : 0.0);
+      }
     }
     if (wall_corr) rho += setup_.materials[material_[i]].rest_density * wall_share(x[i], nullptr);
     rho_[i] = rho;
@@ -404,7 +424,7 @@ void SphSolver::phase_surface() {
     // A particle with almost no neighbours (blown off, or at the tip of an
     // expanded bubble) has a vanishing gradient but is surface all the same.
     parallel_for(n, [&](std::size_t i) {
-      surface_[i] = colour_grad_[i].norm() * h_ >= threshold || lists_.count(i) < kSparseNeighbours ? 1 : 0;
+      surface_[i] = colour_grad_[i].norm() * smoothing_[i] >= threshold || lists_.count(i) < kSparseNeighbours ? 1 : 0;
     }, 4096);
   } else if (steps_ % s.surface_every == 0) {
     const Real threshold = s.surface_hull_threshold * s.spacing;
@@ -461,9 +481,12 @@ void SphSolver::phase_forces() {
   const bool elastic = elastic_;
   const Mat3* s_rho2 = elastic ? stress_rho2_.data() : nullptr;
   const Real visc_c = visc_lap_.coefficient();  // Eq 3.8 (all listed pairs have r < h)
-  const Real lap_w0 = kernel_.laplacian(0.0);
+  const Real* hsup = smoothing_.data();
+  const bool adaptive = adaptive_;
   parallel_for(x_.size(), [&](std::size_t i) {
     const Vec3 xi = x[i], vi = v[i];
+    const Real hi = hsup[i];
+    const Real lap_w0 = adaptive ? CubicSpline(hi).laplacian(0.0) : kernel_.laplacian(0.0);
     const Real rhoi = rho[i], pi_rho2 = p_rho2[i], mui = mu[i];
     Vec3 acc_p = Vec3::Zero(), acc_v = Vec3::Zero(), acc_av = Vec3::Zero(), acc_s = Vec3::Zero();
     const Vec3 normal = colour_grad_[i];
@@ -480,11 +503,16 @@ void SphSolver::phase_forces() {
       const Real r = pr[k];
       const Vec3 xij = xi - x[j];
       const Vec3 grad = Real(pd[k]) * xij;  // zero for coincident particles
+      // Eq 3.56: the pair's support (the global h unless adaptive).
+      const Real hij = adaptive ? 0.5 * (hi + hsup[j]) : h;
       // Eq 3.18: symmetric pressure gradient.
       acc_p -= (m[j] * (pi_rho2 + p_rho2[j])) * grad;
       // Eq 3.19: pairwise-averaged viscosity with the viscosity-kernel Laplacian.
       const Vec3 vij = vi - v[j];
-      if (explicit_visc) acc_v -= (0.5 * (mui + mu[j]) * vol[j] * visc_c * (h - r)) * vij;
+      if (explicit_visc) {
+        const Real vc = adaptive ? ViscosityLaplacian::coefficient_for(hij) : visc_c;
+        acc_v -= (0.5 * (mui + mu[j]) * vol[j] * vc * (hij - r)) * vij;
+      }
       // Divergence of the viscoelastic stress (Eq 2.18 in SPH form):
       // Σ m_j (S_i/ρ_i² + S_j/ρ_j²) ∇_i W_ij.
       if (elastic) acc_s += m[j] * ((s_rho2[i] + s_rho2[j]) * grad);
@@ -492,21 +520,21 @@ void SphSolver::phase_forces() {
       // (branch-free: min(v·x, 0) makes Π vanish for receding pairs).
       if (artificial) {
         const Real vx = std::min(vij.dot(xij), 0.0);
-        const Real denom = r * r + av_eps_h2;
+        const Real denom = r * r + (adaptive ? s.av_epsilon * hij * hij : av_eps_h2);
         const Real inv = 1.0 / (denom * denom * 0.5 * (rhoi + rho[j]));
-        const Real hvx = h * vx;
+        const Real hvx = hij * vx;
         const Real pi_ij = (-s.av_alpha * c * hvx * denom + s.av_beta * hvx * hvx) * inv;
         acc_av -= (m[j] * pi_ij) * grad;
       }
       // Eq 3.29: colour field Laplacian (the gradient, Eq 3.28, comes from the surface phase).
-      if (any_tension) lap_c += vol[j] * kernel_.laplacian(r);
+      if (any_tension) lap_c += vol[j] * (adaptive ? CubicSpline(hij).laplacian(r) : kernel_.laplacian(r));
     }
     Vec3 acc = acc_p + acc_v / rhoi + acc_av + acc_s + g;
     if (any_tension) {
       const Real sigma = setup_.materials[material_[i]].surface_tension;
       const Real nn = normal.norm();
       // Eq 3.30, only where |N| is large enough for a stable direction.
-      if (sigma != 0.0 && nn * h > s.surface_threshold) acc += (-sigma / rhoi * lap_c / nn) * normal;
+      if (sigma != 0.0 && nn * hi > s.surface_threshold) acc += (-sigma / rhoi * lap_c / nn) * normal;
     }
     if (wall_corr && p[i] > 0) {
       // Pressure of the wall half-space mirrored at the particle's pressure.
@@ -651,7 +679,8 @@ void SphSolver::phase_heat(Real dt) {
         },
         [](Range a, Range b) { return Range{std::min(a.first, b.first), std::max(a.second, b.second)}; });
     if (range.second > range.first) {
-      const Real eta2 = 0.01 * h_ * h_;
+      const Real eta2_fixed = 0.01 * h_ * h_;
+      const Real* hsup = smoothing_.data();
       const Real* temp = temperature_.data();
       const Real* vol = volume_.data();
       parallel_for(n, [&](std::size_t i) {
@@ -667,6 +696,8 @@ void SphSolver::phase_heat(Real dt) {
           const Real r = pr[k];
           // x_ij·∇W = r² W'(r)/r
           const Real kj = conductivity_[material_[j]];
+          const Real hij = 0.5 * (hsup[i] + hsup[j]);
+          const Real eta2 = adaptive_ ? 0.01 * hij * hij : eta2_fixed;
           sum += vol[j] * (ki + kj) * (ti - temp[j]) * (Real(pd[k]) * r * r) / (r * r + eta2);
         }
         dtemp_[i] = setup_.bodies[body_[i]].hold_temperature ? 0.0 : dt_bake * sum / (rho_[i] * mi.specific_heat);
@@ -759,6 +790,34 @@ void SphSolver::phase_properties() {
   }, 4096);
 }
 
+// Eq 3.54–3.55: h_i = k_g (ρ_i/ρ_ref)^(−ε_g) h0 for the next step, with
+// ρ_ref the geometric mean of ρ/ρ0 over all particles (each material against
+// its own rest density) or ρ0 itself; clamped to the configured range.
+void SphSolver::phase_smoothing() {
+  if (!adaptive_) return;
+  ScopedPhase t(timers_, t_smoothing_);
+  const AdaptiveSmoothing& a = setup_.settings.adaptive;
+  const std::size_t n = x_.size();
+  Real log_mean = 0;
+  if (a.geometric_mean && n > 0) {
+    log_mean = deterministic_reduce(
+                   n, 0.0,
+                   [&](std::size_t b, std::size_t e) {
+                     Real sum = 0;
+                     for (std::size_t i = b; i < e; ++i)
+                       sum += std::log(rho_[i] / setup_.materials[material_[i]].rest_density);
+                     return sum;
+                   },
+                   [](Real x, Real y) { return x + y; }) /
+               Real(n);
+  }
+  const Real lo = a.min_ratio * h_, hi = a.max_ratio * h_;
+  parallel_for(n, [&](std::size_t i) {
+    const Real relative = std::log(rho_[i] / setup_.materials[material_[i]].rest_density) - log_mean;
+    smoothing_[i] = std::clamp(a.scale * std::exp(-a.sensitivity * relative) * h_, lo, hi);
+  }, 4096);
+}
+
 void SphSolver::check_finite() {
   ScopedPhase t(timers_, t_check_);
   const std::size_t n = x_.size();
@@ -785,9 +844,8 @@ void SphSolver::check_finite() {
 
 std::vector<std::pair<std::string, Real>> SphSolver::time_step_bounds() const {
   const Settings& s = setup_.settings;
-  const Real hs = 0.5 * h_;  // classical smoothing length ħ
   struct Extremes {
-    Real v2 = 0, a2 = 0, nu = 0, shear = 0;
+    Real v2 = 0, a2 = 0, nu = 0, shear = 0, h = std::numeric_limits<Real>::infinity();
   };
   const Extremes e = deterministic_reduce(
       x_.size(), Extremes{},
@@ -798,12 +856,16 @@ std::vector<std::pair<std::string, Real>> SphSolver::time_step_bounds() const {
           r.a2 = std::max(r.a2, a_[i].squaredNorm());
           r.nu = std::max(r.nu, mu_[i] / rho_[i]);
           r.shear = std::max(r.shear, elasticity_[i] / rho_[i]);
+          r.h = std::min(r.h, smoothing_[i]);
         }
         return r;
       },
       [](Extremes a, Extremes b) {
-        return Extremes{std::max(a.v2, b.v2), std::max(a.a2, b.a2), std::max(a.nu, b.nu), std::max(a.shear, b.shear)};
+        return Extremes{std::max(a.v2, b.v2), std::max(a.a2, b.a2), std::max(a.nu, b.nu), std::max(a.shear, b.shear),
+                        std::min(a.h, b.h)};
       });
+  // Classical smoothing length ħ = h/2 of the smallest support.
+  const Real hs = 0.5 * std::min(h_, e.h);
   std::vector<std::pair<std::string, Real>> bounds;
   bounds.emplace_back("max_dt", s.max_dt);
   bounds.emplace_back("cfl", s.cfl * hs / (s.speed_of_sound + std::sqrt(e.v2)));
@@ -847,6 +909,7 @@ void SphSolver::step(Real dt) {
   phase_viscosity(dt);
   phase_heat(dt);
   phase_properties();
+  phase_smoothing();
   time_ += dt;
   ++steps_;
   check_finite();

@@ -19,6 +19,8 @@
 //   heat      conduction and exchange with air/colliders   (Eq 3.42–3.46)
 //   properties temperature-dependent μ, μ_e, λ, ε; rise
 //             state of bubble particles                    (Eq 4.1–4.4, 3.52)
+//   smoothing per-particle h for the next step (optional)  (Eq 3.54–3.56)
+// With adaptive smoothing every pair uses h_ij = (h_i + h_j)/2 (Eq 3.56).
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -89,6 +91,15 @@ struct Environment {
   Real bake_time_scale = 1.0;
 };
 
+// Per-particle smoothing length, Eq 3.54–3.56 (docs/physics.md).
+struct AdaptiveSmoothing {
+  bool enabled = false;
+  bool geometric_mean = true;  // ρ_ref: geometric mean of ρ/ρ0 (Eq 3.55), else ρ0
+  Real sensitivity = 0.5;      // ε_g
+  Real scale = 1.0;            // k_g
+  Real min_ratio = 0.8, max_ratio = 1.5;  // h_i / h0 limits
+};
+
 struct Settings {
   Real spacing = 0.01;           // initial particle spacing s, m
   Real smoothing_ratio = 2.0;    // support h = ratio · s
@@ -104,6 +115,7 @@ struct Settings {
   Real surface_hull_threshold = 0.5;     // hull boundary closer than this × spacing: on the surface
   int surface_every = 1;                 // steps between surface detections
   ViscositySolver viscosity_solver = ViscositySolver::automatic;
+  AdaptiveSmoothing adaptive;
   Real implicit_tolerance = 1e-6;        // relative residual of the implicit viscosity solve
   int implicit_max_iterations = 500;
   Real cfl = 0.4;
@@ -180,6 +192,7 @@ class SphSolver final : public Solver {
   void phase_viscosity(Real dt);
   void phase_heat(Real dt);
   void phase_properties();
+  void phase_smoothing();
   void assign_bubbles();
   void check_finite();
   // Share of particle i's kernel beyond all analytic walls, 1 − Π(1 − f_k),
@@ -205,6 +218,7 @@ class SphSolver final : public Solver {
   bool implicit_viscosity_ = false;
   bool elastic_ = false;  // some material has a Maxwell stress (μ_e not identically 0)
   bool heated_colliders_ = false;   // some collider carries a temperature
+  bool adaptive_ = false;           // per-particle smoothing length (Eq 3.54–3.56)
   std::vector<Real> exchange_area_;  // per material: π r² of a surface particle (Eq 3.43)
   int viscosity_iterations_ = 0;
   Real exchanged_heat_ = 0.0;
@@ -224,6 +238,7 @@ class SphSolver final : public Solver {
   std::vector<Vec3>& stress_diag_;  // S_xx, S_yy, S_zz
   std::vector<Vec3>& stress_off_;   // S_xy, S_xz, S_yz
   std::vector<Real>& area_;         // exchange area of surface particles, m²
+  std::vector<Real>& smoothing_;    // support radius h_i, m (h0 unless adaptive, Eq 3.54)
   std::vector<Real>& set_density_;  // ρ_f of Eq 3.52
   std::vector<std::int32_t>& surface_;
   std::vector<std::int32_t>& bubble_;
@@ -251,7 +266,7 @@ class SphSolver final : public Solver {
 
   PhaseTimers timers_;
   int t_kick_, t_drift_, t_collide_, t_sort_, t_neigh_, t_density_, t_surface_, t_stress_, t_pressure_, t_forces_, t_xsph_,
-      t_viscosity_, t_heat_, t_properties_, t_check_;
+      t_viscosity_, t_heat_, t_properties_, t_smoothing_, t_check_;
   Real time_ = 0.0;
   long steps_ = 0;
   std::string dt_bound_ = "cfl";

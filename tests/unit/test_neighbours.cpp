@@ -73,6 +73,44 @@ TEST_P(NeighbourMethods, HandlesPointsOutsideTheDomainAndDenseClusters) {
   EXPECT_GE(lists.max_count(), 399u);
 }
 
+// Eq 3.56: with per-particle supports, j neighbours i when r < (h_i + h_j)/2.
+TEST_P(NeighbourMethods, VariableSupportMatchesBruteForce) {
+  const Aabb domain{Vec3(-0.3, 0.0, -0.1), Vec3(0.5, 0.4, 0.2)};
+  const double h0 = 0.05;
+  std::vector<Vec3> x = random_points(2500, domain, 11);
+  NeighbourSearch search(GetParam(), domain, h0);
+  std::vector<std::uint32_t> order;
+  search.sort_order(x, order);
+  std::vector<Vec3> sorted(x.size());
+  std::vector<Real> support(x.size());
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(0.8, 1.5);
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    sorted[i] = x[order[i]];
+    support[i] = u(rng) * h0;
+  }
+  NeighbourLists lists;
+  search.find(sorted, support, lists);
+  std::vector<std::vector<std::uint32_t>> expected(x.size());
+  std::size_t pairs = 0;
+  for (std::size_t i = 0; i < x.size(); ++i)
+    for (std::size_t j = 0; j < x.size(); ++j) {
+      const double hij = 0.5 * (support[i] + support[j]);
+      if (i != j && (sorted[i] - sorted[j]).squaredNorm() < hij * hij) {
+        expected[i].push_back(std::uint32_t(j));
+        ++pairs;
+      }
+    }
+  EXPECT_GT(pairs, 10 * x.size());
+  expect_same_lists(lists, NeighbourLists::from_lists(expected));
+  for (std::size_t i = 0; i < lists.size(); ++i) {
+    EXPECT_TRUE(std::is_sorted(lists.begin(i), lists.end(i)));
+    const float* d = lists.distances(i);
+    for (std::uint32_t k = 0; k < lists.count(i); ++k)
+      EXPECT_NEAR(d[k], (sorted[i] - sorted[lists.begin(i)[k]]).norm(), 1e-6);
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Search, NeighbourMethods, ::testing::Values(NeighbourMethod::grid, NeighbourMethod::kdtree),
                          [](const auto& info) { return to_string(info.param); });
 

@@ -17,8 +17,9 @@ using nlohmann::json;
 
 namespace {
 
-json colliding_blocks(const std::string& search) {
+json colliding_blocks(const std::string& search, bool adaptive = false) {
   return {{"solver", {{"type", "sph"}, {"sph", {{"spacing", 0.01}, {"neighbour_search", search},
+                                                {"adaptive_smoothing", {{"enabled", adaptive}}},
                                                 {"artificial_viscosity", {{"alpha", 0.5}, {"beta", 1.0}}}}}}},
           {"time", {{"end", 1.0}}},
           {"gravity", {0, 0, 0}},
@@ -42,8 +43,12 @@ Vec3 momentum(const ParticleSet& ps) {
 
 }  // namespace
 
-TEST(Conservation, LinearMomentumToRoundOffWithoutWallsOrGravity) {
-  auto solver = test_support::make_sph(colliding_blocks("grid"));
+class ConservationBySmoothing : public ::testing::TestWithParam<bool> {};
+
+// With adaptive smoothing the pairs use h_ij = (h_i + h_j)/2 (Eq 3.56), so
+// every pair force stays antisymmetric and momentum is still conserved.
+TEST_P(ConservationBySmoothing, LinearMomentumToRoundOffWithoutWallsOrGravity) {
+  auto solver = test_support::make_sph(colliding_blocks("grid", GetParam()));
   const Vec3 p0 = momentum(solver->particles());
   double scale = 0;
   const auto& m = solver->particles().scalar("mass");
@@ -58,17 +63,25 @@ TEST(Conservation, LinearMomentumToRoundOffWithoutWallsOrGravity) {
   EXPECT_LT((p1 - p0).norm(), 1e-12 * scale) << "drift " << (p1 - p0).transpose() << " of " << scale;
 }
 
-TEST(Determinism, SameResultOnOneAndTwoThreads) {
+INSTANTIATE_TEST_SUITE_P(Smoothing, ConservationBySmoothing, ::testing::Values(false, true),
+                         [](const auto& info) { return info.param ? "adaptive" : "fixed"; });
+
+class DeterminismBySmoothing : public ::testing::TestWithParam<bool> {};
+
+TEST_P(DeterminismBySmoothing, SameResultOnOneAndTwoThreads) {
   std::vector<Vec3> result[2];
   for (int t = 1; t <= 2; ++t) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(t));
-    auto solver = test_support::make_sph(colliding_blocks("grid"));
+    auto solver = test_support::make_sph(colliding_blocks("grid", GetParam()));
     for (int k = 0; k < 60; ++k) solver->step(solver->max_stable_dt());
     result[t - 1] = solver->particles().vector("position");
   }
   ASSERT_EQ(result[0].size(), result[1].size());
   for (std::size_t i = 0; i < result[0].size(); ++i) ASSERT_EQ(result[0][i], result[1][i]) << "particle " << i;
 }
+
+INSTANTIATE_TEST_SUITE_P(Smoothing, DeterminismBySmoothing, ::testing::Values(false, true),
+                         [](const auto& info) { return info.param ? "adaptive" : "fixed"; });
 
 TEST(Determinism, GridAndKdTreeSearchesAgree) {
   auto a = test_support::make_sph(colliding_blocks("grid"));
