@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "geometry/mesh.hpp"
+#include "physics/curves.hpp"
 
 namespace bakesim {
 
@@ -57,7 +58,9 @@ struct Collider {
   ColliderGeometry geometry;
   Real friction = 0.0;  // 0: free slip (thesis β_c = 1), 1: no slip (β_c = 0)
   Real damping = 1.0;   // 1: normal velocity removed (α_c = 0), 0: elastic bounce (α_c = 1)
-  std::optional<Real> temperature;  // °C; particles touching it exchange heat when set
+  // °C over bake time (a constant or a schedule); particles touching it
+  // exchange heat with it when set.
+  std::optional<PiecewiseLinear> temperature;
   Real heat_transfer_coefficient = 500.0;  // W/(m² K), contact exchange with touching particles
 };
 

@@ -348,7 +348,8 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::s
     col.geometry = build_collider_geometry(c, path + ".shape", cj["shape"], h);
     col.friction = cj["friction"].get<double>();
     col.damping = cj["damping"].get<double>();
-    if (!cj["temperature"].is_null()) col.temperature = cj["temperature"].get<double>();
+    if (!cj["temperature"].is_null())
+      col.temperature = build_schedule(c, fmt::format("colliders[{}].temperature", i), cj["temperature"]);
     col.heat_transfer_coefficient = cj["heat_transfer_coefficient"].get<double>();
     setup.colliders.push_back(std::move(col));
   }

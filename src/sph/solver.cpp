@@ -709,27 +709,35 @@ void SphSolver::phase_heat(Real dt) {
   const Real air = env.air_temperature(bake_time());
   const Real h_air = env.heat_transfer_coefficient;
   const Real touch = setup_.settings.spacing;  // contact: within one spacing of the collider surface
+  // Collider temperatures at this bake time, read once (walls, then meshes).
+  std::vector<Real> wall_temperature(walls_.size(), 0.0), mesh_temperature(meshes_.size(), 0.0);
+  for (std::size_t c = 0; c < walls_.size(); ++c)
+    if (walls_[c].temperature) wall_temperature[c] = (*walls_[c].temperature)(bake_time());
+  for (std::size_t c = 0; c < meshes_.size(); ++c)
+    if (meshes_[c].temperature) mesh_temperature[c] = (*meshes_[c].temperature)(bake_time());
   parallel_for(n, [&](std::size_t i) {
     dtemp_[i] = 0.0;
     if (!surface_[i] || area_[i] <= 0 || setup_.bodies[body_[i]].hold_temperature) return;
     Real outside = air, coefficient = h_air;
     if (heated_colliders_) {
       bool found = false;
-      for (const Collider& c : walls_) {
+      for (std::size_t ci = 0; ci < walls_.size(); ++ci) {
+        const Collider& c = walls_[ci];
         if (!c.temperature || found) continue;
         for_each_wall(c.geometry, x_[i], touch, [&](const WallContact&) { found = true; });
         if (found) {
-          outside = *c.temperature;
+          outside = wall_temperature[ci];
           coefficient = c.heat_transfer_coefficient;
         }
       }
       const Real len = colour_grad_[i].norm();
-      for (const Collider& c : meshes_) {
+      for (std::size_t ci = 0; ci < meshes_.size(); ++ci) {
+        const Collider& c = meshes_[ci];
         if (!c.temperature || found || len <= 0) continue;
         const Vec3 out = -colour_grad_[i] / len;
         if (mesh_segment_hits(std::get<MeshCollider>(c.geometry), x_[i], x_[i] + touch * out, 0.0).hits > 0) {
           found = true;
-          outside = *c.temperature;
+          outside = mesh_temperature[ci];
           coefficient = c.heat_transfer_coefficient;
         }
       }
