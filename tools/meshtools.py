@@ -1,4 +1,5 @@
 """Small helpers shared by the mesh generators in tools/."""
+import math
 
 
 def signed_volume(verts, faces):
@@ -26,3 +27,33 @@ def write_obj(path, verts, faces, comment):
             out.write("v %.6f %.6f %.6f\n" % v)
         for f in faces:
             out.write("f %d %d %d\n" % tuple(i + 1 for i in f))
+
+
+def revolve(profile, segments):
+    """Closed solid of revolution about the y axis from a closed profile loop
+    of (radius, y) points. Points with radius 0 lie on the axis and become a
+    single vertex (fans instead of degenerate quads). Returns verts, faces
+    (not yet oriented)."""
+    verts, rings = [], []
+    for r, y in profile:
+        if r == 0.0:
+            verts.append((0.0, y, 0.0))
+            rings.append([len(verts) - 1] * segments)
+        else:
+            ring = []
+            for k in range(segments):
+                a = 2 * math.pi * k / segments
+                verts.append((r * math.cos(a), y, r * math.sin(a)))
+                ring.append(len(verts) - 1)
+            rings.append(ring)
+    faces = []
+    n = len(rings)
+    for i in range(n):
+        lo, hi = rings[i], rings[(i + 1) % n]
+        for k in range(segments):
+            k2 = (k + 1) % segments
+            a, b, c, d = lo[k], lo[k2], hi[k2], hi[k]
+            for tri in ((a, b, c), (a, c, d)):
+                if len(set(tri)) == 3:
+                    faces.append(tri)
+    return verts, faces

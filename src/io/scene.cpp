@@ -280,6 +280,7 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::s
     if (!bj["pressure_scale"].is_null()) bs.pressure_scale = bj["pressure_scale"].get<double>();
     bs.max_expansion = bj["max_expansion"].get<double>();
     bs.end_temperature = bj["end_temperature"].get<double>();
+    bs.contract_on_cooling = bj["contract_on_cooling"].get<bool>();
     max_initial_speed = std::max(max_initial_speed, body.velocity.norm());
     setup.bodies.push_back(std::move(body));
   }

@@ -1,6 +1,7 @@
 #pragma once
 // Bubble particles (thesis 3.3.3, Eq 3.48–3.52) and the Tait law they switch
 // back to. Temperatures in the gas law are absolute (kelvin).
+#include <algorithm>
 #include <cmath>
 
 #include "core/types.hpp"
@@ -25,6 +26,13 @@ inline Real tait_pressure(Real tait_b, Real density, Real reference_density, Rea
   const Real ratio = density / reference_density;
   const Real power = gamma == 7.0 ? ratio * ratio * ratio * ratio * ratio * ratio * ratio : std::pow(ratio, gamma);
   return tait_b * (power - 1.0);
+}
+
+// Reference density of a risen bubble particle that cooled from the
+// temperature at which its rise ended: the trapped gas contracts by the gas
+// law (never expands past its risen volume), ρ_ref = ρ_f · max(1, T_set/T).
+inline Real contracted_reference_density(Real set_density, Real temperature_c, Real set_temperature_c) {
+  return set_density * std::max(1.0, bubble_volume_ratio(set_temperature_c, temperature_c));
 }
 
 }  // namespace bakesim

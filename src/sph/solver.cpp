@@ -87,6 +87,7 @@ SphSolver::SphSolver(Setup setup)
       area_(particles_.add_scalar("surface_area", "m^2")),
       smoothing_(particles_.add_scalar("smoothing_length", "m")),
       set_density_(particles_.add_scalar("set_density", "kg/m^3", false)),
+      set_temperature_(particles_.add_scalar("set_temperature", "degC", false)),
       surface_(particles_.add_int("surface")),
       bubble_(particles_.add_int("bubble")),
       rise_state_(particles_.add_int("rise_state")),
@@ -221,6 +222,7 @@ void SphSolver::seed_particles() {
       stress_diag_[k].setZero();
       stress_off_[k].setZero();
       set_density_[k] = mat.rest_density;
+      set_temperature_[k] = b.temperature;
       smoothing_[k] = h_;
       material_[k] = b.material;
       body_[k] = static_cast<std::int32_t>(bi);
@@ -383,7 +385,10 @@ void SphSolver::phase_pressure() {
     const Real rho0 = setup_.materials[mat].rest_density;
     Real p;
     if (rise_state_[i] == 2) {
-      p = tait_pressure(tait_b_[mat], rho_[i], set_density_[i], gamma);
+      Real reference = set_density_[i];
+      if (bubble_[i] && setup_.bodies[body_[i]].bubbles.contract_on_cooling)
+        reference = contracted_reference_density(reference, temperature_[i], set_temperature_[i]);
+      p = tait_pressure(tait_b_[mat], rho_[i], reference, gamma);
     } else if (rise_state_[i] == 1) {
       const Body& b = setup_.bodies[body_[i]];
       p = bubble_pressure(bubble_b_[body_[i]], rho_[i], rho0, temperature_[i], b.temperature);
@@ -794,6 +799,7 @@ void SphSolver::phase_properties() {
     if (done) {
       rise_state_[i] = 2;
       set_density_[i] = std::min(rho_[i], rho0);
+      set_temperature_[i] = temperature_[i];
     }
   }, 4096);
 }

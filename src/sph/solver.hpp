@@ -64,6 +64,7 @@ struct BubbleSpec {
   std::optional<Real> pressure_scale; // B of Eq 3.48 for bubbles, Pa (default: the material's Tait B)
   Real max_expansion = 3.0;           // a bubble stops rising when ρ0/ρ reaches this
   Real end_temperature = 100.0;       // °C: the rise ends (Eq 3.52 takes over) for every particle of the body
+  bool contract_on_cooling = false;   // risen bubbles shrink by the gas law as they cool
 };
 
 struct Body {
@@ -240,6 +241,7 @@ class SphSolver final : public Solver {
   std::vector<Real>& area_;         // exchange area of surface particles, m²
   std::vector<Real>& smoothing_;    // support radius h_i, m (h0 unless adaptive, Eq 3.54)
   std::vector<Real>& set_density_;  // ρ_f of Eq 3.52
+  std::vector<Real>& set_temperature_;  // °C at which the rise ended
   std::vector<std::int32_t>& surface_;
   std::vector<std::int32_t>& bubble_;
   std::vector<std::int32_t>& rise_state_;  // 0 before the rise, 1 rising (bubbles), 2 risen (Eq 3.52)

@@ -104,3 +104,11 @@ TEST(Bubbles, GasLawUsesKelvin) {
   EXPECT_DOUBLE_EQ(tait_pressure(1000, 400, 400, 7), 0.0);
   EXPECT_NEAR(tait_pressure(1000, 440, 400, 7), 1000 * (std::pow(1.1, 7) - 1), 1e-9);
 }
+
+TEST(BubbleLaws, CoolingRisenGasContractsByTheGasLawAndNeverReexpands) {
+  // Gas trapped at 100 °C and cooled to 25 °C occupies 298.15/373.15 of its
+  // volume at constant pressure: the reference density grows by the inverse.
+  EXPECT_NEAR(contracted_reference_density(500.0, 25.0, 100.0), 500.0 * 373.15 / 298.15, 1e-9);
+  EXPECT_DOUBLE_EQ(contracted_reference_density(500.0, 100.0, 100.0), 500.0);
+  EXPECT_DOUBLE_EQ(contracted_reference_density(500.0, 180.0, 100.0), 500.0);  // hotter: keeps the risen volume
+}
