@@ -57,3 +57,11 @@ def revolve(profile, segments):
                 if len(set(tri)) == 3:
                     faces.append(tri)
     return verts, faces
+
+
+def write_revolved(path, profile, segments, comment, what="volume"):
+    """Revolves a closed profile, orients it outward and writes it as OBJ."""
+    verts, faces = revolve(profile, segments)
+    faces, vol = orient_outward(verts, faces)
+    write_obj(path, verts, faces, comment)
+    print("%s: %d vertices, %d triangles, %s %.3e m^3" % (path, len(verts), len(faces), what, vol))
