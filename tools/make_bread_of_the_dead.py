@@ -43,14 +43,14 @@ def topping():
 
 
 def main(path):
-    bubbles = {"fraction": 0.4, "distribution": "uniform", "pressure_scale": 20000.0, "max_expansion": 3.0,
+    bubbles = {"fraction": 0.4, "distribution": "uniform", "pressure_scale": 12000.0, "max_expansion": 2.5,
                "end_temperature": 100.0}
     scene = {
         "format": "bakesim-scene/1",
         "name": "bread-of-the-dead",
         "description": ("Bread of the dead (pan de muerto, thesis Fig 4.12-4.13): a round loaf with four bone-shaped "
                         "strips over its dome and a ball on top (written by tools/make_bread_of_the_dead.py). The "
-                        "dough is smooth and elastic even raw (mu_e 3000 Pa when cold, rising to 5e4 Pa as it "
+                        "dough is smooth and elastic even raw (mu_e 8000 Pa when cold, rising to 5e4 Pa as it "
                         "sets, Zhang relaxation time), so the bones and the ball keep their shape while the loaf "
                         "rises on a 180 degC tray under 220 degC air. Bake clock 750: 2 s of mechanics are a "
                         "25-minute bake."),
@@ -65,7 +65,7 @@ def main(path):
             "elastic-dough": {
                 "preset": "dough",
                 "viscosity": {"curve": "piecewise_linear", "points": [[26, 5.0], [120, 50.0]]},
-                "elasticity": {"curve": "piecewise_linear", "points": [[26, 3000.0], [45, 3000.0], [120, 50000.0]]}
+                "elasticity": {"curve": "piecewise_linear", "points": [[26, 8000.0], [45, 8000.0], [120, 50000.0]]}
             }
         },
         "bodies": [

@@ -620,11 +620,18 @@ void SphSolver::phase_collide() {
       });
     }
     for (const Collider& c : meshes_) {
-      const SegmentHit hit = mesh_segment_hits(std::get<MeshCollider>(c.geometry), x_prev_[i], xi, rc);
+      const MeshCollider& mesh = std::get<MeshCollider>(c.geometry);
+      const SegmentHit hit = mesh_segment_hits(mesh, x_prev_[i], xi, rc);
       if (hit.hits > 0) {
         const Real len = hit.normal_sum.norm();
         const Vec3 n = len > 0 ? Vec3(hit.normal_sum / len) : Vec3::UnitY();
-        xi = x_prev_[i];
+        // Keep the part of the step along the surface when that path is
+        // free: a particle sent back to x_{t−1} on every step would never
+        // slide down a slope while gravity kept feeding its velocity.
+        const Vec3 d = xi - x_prev_[i];
+        const Real dn = d.dot(n);
+        const Vec3 slid = x_prev_[i] + (dn < 0 ? Vec3(d - dn * n) : d);
+        xi = mesh_segment_hits(mesh, x_prev_[i], slid, rc).hits == 0 ? slid : x_prev_[i];
         respond(vi, n, c.friction, c.damping);
       }
     }
