@@ -46,4 +46,17 @@ T deterministic_reduce(std::size_t n, T identity, ChunkFn&& chunk_fn, Combine&& 
   return result;
 }
 
+// Σ term(i) over [0, n), summed in the same order on any thread count.
+template <class Term>
+double deterministic_sum(std::size_t n, Term&& term) {
+  return deterministic_reduce(
+      n, 0.0,
+      [&](std::size_t b, std::size_t e) {
+        double sum = 0;
+        for (std::size_t i = b; i < e; ++i) sum += term(i);
+        return sum;
+      },
+      [](double a, double b) { return a + b; });
+}
+
 }  // namespace bakesim

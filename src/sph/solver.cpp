@@ -759,14 +759,7 @@ void SphSolver::phase_heat(Real dt) {
     temperature_[i] = exchange_temperature(before, outside, coefficient * area_[i], capacity, dt_bake);
     dtemp_[i] = exchanged_energy(before, temperature_[i], capacity);
   }, 1024);
-  exchanged_heat_ += deterministic_reduce(
-      n, 0.0,
-      [&](std::size_t b, std::size_t e) {
-        Real sum = 0;
-        for (std::size_t i = b; i < e; ++i) sum += dtemp_[i];
-        return sum;
-      },
-      [](Real a, Real b) { return a + b; });
+  exchanged_heat_ += deterministic_sum(n, [&](std::size_t i) { return dtemp_[i]; });
 }
 
 // Eq 4.1–4.4: viscosity, elasticity, relaxation time and XSPH tuner follow
@@ -821,16 +814,9 @@ void SphSolver::phase_smoothing() {
   const std::size_t n = x_.size();
   Real log_mean = 0;
   if (a.geometric_mean && n > 0) {
-    log_mean = deterministic_reduce(
-                   n, 0.0,
-                   [&](std::size_t b, std::size_t e) {
-                     Real sum = 0;
-                     for (std::size_t i = b; i < e; ++i)
-                       sum += std::log(rho_[i] / setup_.materials[material_[i]].rest_density);
-                     return sum;
-                   },
-                   [](Real x, Real y) { return x + y; }) /
-               Real(n);
+    log_mean = deterministic_sum(n, [&](std::size_t i) {
+                 return std::log(rho_[i] / setup_.materials[material_[i]].rest_density);
+               }) / Real(n);
   }
   const Real lo = a.min_ratio * h_, hi = a.max_ratio * h_;
   parallel_for(n, [&](std::size_t i) {
