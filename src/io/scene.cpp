@@ -233,6 +233,7 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::s
     mat.rest_density = m["density"].get<double>();
     mat.viscosity = build_curve(c, "materials." + it.key() + ".viscosity", m["viscosity"]);
     mat.surface_tension = m["surface_tension"].get<double>();
+    mat.properties_follow_peak = m["property_temperature"].get<std::string>() == "peak";
     mat.xsph = build_curve(c, "materials." + it.key() + ".xsph", m["xsph"]);
     mat.specific_heat = m["specific_heat"].get<double>();
     mat.conductivity = m["conductivity"].get<double>();

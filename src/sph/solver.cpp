@@ -88,6 +88,7 @@ SphSolver::SphSolver(Setup setup)
       smoothing_(particles_.add_scalar("smoothing_length", "m")),
       set_density_(particles_.add_scalar("set_density", "kg/m^3", false)),
       set_temperature_(particles_.add_scalar("set_temperature", "degC", false)),
+      peak_temperature_(particles_.add_scalar("peak_temperature", "degC", false)),
       surface_(particles_.add_int("surface")),
       bubble_(particles_.add_int("bubble")),
       rise_state_(particles_.add_int("rise_state")),
@@ -223,6 +224,7 @@ void SphSolver::seed_particles() {
       stress_off_[k].setZero();
       set_density_[k] = mat.rest_density;
       set_temperature_[k] = b.temperature;
+      peak_temperature_[k] = b.temperature;
       smoothing_[k] = h_;
       material_[k] = b.material;
       body_[k] = static_cast<std::int32_t>(bi);
@@ -763,16 +765,20 @@ void SphSolver::phase_heat(Real dt) {
 }
 
 // Eq 4.1–4.4: viscosity, elasticity, relaxation time and XSPH tuner follow
-// each particle's temperature. Each curve is visited once per material; the
+// each particle's temperature (or the peak it reached, for irreversible setting). Each curve is visited once per material; the
 // particle loop sees a plain callable. Then the rise state of Eq 3.48–3.52.
 void SphSolver::phase_properties() {
   ScopedPhase t(timers_, t_properties_);
   const std::size_t n = x_.size();
+  parallel_for(n, [&](std::size_t i) {
+    peak_temperature_[i] = std::max(peak_temperature_[i], temperature_[i]);
+  }, 4096);
   auto follow = [&](int id, const TemperatureCurve& c, std::vector<Real>& out, Real lo, Real hi) {
     if (is_constant(c)) return;
+    const std::vector<Real>& t = setup_.materials[id].properties_follow_peak ? peak_temperature_ : temperature_;
     std::visit([&](const auto& curve) {
       parallel_for(n, [&](std::size_t i) {
-        if (material_[i] == id) out[i] = std::clamp(curve(temperature_[i]), lo, hi);
+        if (material_[i] == id) out[i] = std::clamp(curve(t[i]), lo, hi);
       }, 4096);
     }, c);
   };

@@ -50,6 +50,9 @@ struct Material {
   // viscoelastic stress) and relaxation time λ(T) in s (Eq 4.2, 4.3).
   TemperatureCurve elasticity = ConstantCurve{0.0};
   TemperatureCurve relaxation_time = ConstantCurve{1.0};
+  // The curves read the highest temperature reached instead of the current
+  // one: baked dough stays set when it cools (irreversible setting).
+  bool properties_follow_peak = false;
 };
 
 enum class BubbleDistribution { uniform, centred, layered, region };
@@ -242,6 +245,7 @@ class SphSolver final : public Solver {
   std::vector<Real>& smoothing_;    // support radius h_i, m (h0 unless adaptive, Eq 3.54)
   std::vector<Real>& set_density_;  // ρ_f of Eq 3.52
   std::vector<Real>& set_temperature_;  // °C at which the rise ended
+  std::vector<Real>& peak_temperature_;  // highest °C reached (irreversible setting)
   std::vector<std::int32_t>& surface_;
   std::vector<std::int32_t>& bubble_;
   std::vector<std::int32_t>& rise_state_;  // 0 before the rise, 1 rising (bubbles), 2 risen (Eq 3.52)

@@ -156,3 +156,34 @@ TEST(BakingPhysics, SetDoughHoldsItsShapeUnderGravity) {
   EXPECT_GT(height() / h0, 0.95);
   EXPECT_LT(height() / h0, 1.02);
 }
+
+TEST(BakingPhysics, PeakPropertyTemperatureKeepsBakedDoughSetWhenItCools) {
+  // The oven heats the ball to about 180 °C and is then switched off
+  // (air 20 °C): with property_temperature "peak" the viscosity stays at the
+  // curve's value for the hottest temperature each particle reached; with
+  // "current" it falls back with the temperature.
+  const TemperatureCurve curve = PiecewiseLinear({{20, 0.001}, {100, 0.05}});
+  auto run = [&](const char* mode) {
+    json scene = hot_air_scene(1000.0);
+    scene["environment"]["air_temperature"] = json::array({{0, 200}, {150, 200}, {151, 20}});
+    scene["environment"]["heat_transfer_coefficient"] = 200.0;
+    scene["materials"]["metal"]["conductivity"] = 5.0;  // Biot 0.4; a bake-clock step not bound by conduction
+    scene["materials"]["metal"]["viscosity"] = {{"curve", "piecewise_linear"}, {"points", {{20, 0.001}, {100, 0.05}}}};
+    scene["materials"]["metal"]["property_temperature"] = mode;
+    auto solver = test_support::make_sph(scene);
+    test_support::advance_to(*solver, 0.3);  // 300 s of bake
+    return solver;
+  };
+  auto peak = run("peak"), current = run("current");
+  for (auto* s : {peak.get(), current.get()}) {
+    const auto& t = s->particles().scalar("temperature");
+    EXPECT_LT(*std::max_element(t.begin(), t.end()), 60.0);  // it has cooled well below the set range
+  }
+  const auto& mu_peak = peak->particles().scalar("viscosity");
+  const auto& mu_now = current->particles().scalar("viscosity");
+  const auto& t_now = current->particles().scalar("temperature");
+  for (std::size_t i = 0; i < mu_peak.size(); ++i) {
+    EXPECT_DOUBLE_EQ(mu_peak[i], 0.05);  // every particle passed 100 °C
+    EXPECT_DOUBLE_EQ(mu_now[i], evaluate(curve, t_now[i]));
+  }
+}
