@@ -317,6 +317,8 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::s
     if (st.adaptive.min_ratio > st.adaptive.max_ratio)
       throw InputError("solver.sph.adaptive_smoothing.range", "the lower limit exceeds the upper one");
   }
+  st.artificial_stress = sj["artificial_stress"]["epsilon"].get<double>();
+  st.artificial_stress_exponent = sj["artificial_stress"]["exponent"].get<double>();
   st.implicit_tolerance = sj["implicit_viscosity"]["tolerance"].get<double>();
   st.implicit_max_iterations = sj["implicit_viscosity"]["max_iterations"].get<int>();
   st.cfl = doc["solver"]["cfl"].get<double>();

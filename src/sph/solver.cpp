@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include <Eigen/Eigenvalues>
 #include <tbb/enumerable_thread_specific.h>
 
 #include "core/errors.hpp"
@@ -490,6 +491,24 @@ void SphSolver::phase_forces() {
   const Real visc_c = visc_lap_.coefficient();  // Eq 3.8 (all listed pairs have r < h)
   const Real* hsup = smoothing_.data();
   const bool adaptive = adaptive_;
+  // Monaghan (2000) artificial stress: R_i = Q diag(−ε max(σ'_a, 0)/ρ_i²) Qᵀ
+  // from the principal stresses σ'_a of the total stress S − p I.
+  const bool art_stress = elastic && s.artificial_stress > 0.0;
+  const Real art_n = s.artificial_stress_exponent;
+  if (art_stress) {
+    artificial_stress_.resize(x_.size());
+    const Real eps = s.artificial_stress;
+    parallel_for(x_.size(), [&](std::size_t i) {
+      const Mat3 sigma = s_rho2[i] - p_rho2[i] * Mat3::Identity();
+      Eigen::SelfAdjointEigenSolver<Mat3> eig;
+      eig.computeDirect(sigma);
+      const Vec3 r = (-eps * eig.eigenvalues().cwiseMax(0.0)).eval();
+      artificial_stress_[i] = eig.eigenvectors() * r.asDiagonal() * eig.eigenvectors().transpose();
+    }, 1024);
+  }
+  const Mat3* art = art_stress ? artificial_stress_.data() : nullptr;
+  const Real spacing_ratio = s.spacing / h;  // Δp / h, also for h_ij
+  const Real inv_w_dp = 1.0 / kernel_.w(s.spacing);
   parallel_for(x_.size(), [&](std::size_t i) {
     const Vec3 xi = x[i], vi = v[i];
     const Real hi = hsup[i];
@@ -523,6 +542,12 @@ void SphSolver::phase_forces() {
       // Divergence of the viscoelastic stress (Eq 2.18 in SPH form):
       // Σ m_j (S_i/ρ_i² + S_j/ρ_j²) ∇_i W_ij.
       if (elastic) acc_s += m[j] * ((s_rho2[i] + s_rho2[j]) * grad);
+      // Artificial stress: m_j f_ij^n (R_i + R_j) ∇_i W_ij, f = W(r)/W(Δp).
+      if (art_stress) {
+        const Real f = adaptive ? CubicSpline(hij).w(r) / CubicSpline(hij).w(spacing_ratio * hij) : kernel_.w(r) * inv_w_dp;
+        const Real fn = art_n == 4.0 ? (f * f) * (f * f) : std::pow(f, art_n);
+        acc_s += (m[j] * fn) * ((art[i] + art[j]) * grad);
+      }
       // Eq 3.35–3.41: artificial viscosity, only for approaching pairs
       // (branch-free: min(v·x, 0) makes Π vanish for receding pairs).
       if (artificial) {

@@ -113,6 +113,9 @@ struct Settings {
   bool clamp_negative_pressure = true;
   bool wall_density_correction = true;
   Real av_alpha = 0.0, av_beta = 1.0, av_epsilon = 0.01;  // Eq 3.36–3.37
+  // Monaghan's artificial stress: fraction ε of the tensile principal stress
+  // (0: off) and the exponent n of (W(r)/W(s))^n.
+  Real artificial_stress = 0.0, artificial_stress_exponent = 4.0;
   Real surface_threshold = 0.1;  // |∇C| · h above which surface tension acts (Eq 3.30)
   SurfaceMethod surface_method = SurfaceMethod::colour;
   Real surface_colour_threshold = 0.6;   // |∇C| · h at or above which a particle is on the surface
@@ -263,6 +266,7 @@ class SphSolver final : public Solver {
   std::vector<Real> volume_;       // m/ρ, per particle (pressure phase)
   std::vector<Vec3> colour_grad_;  // Σ V_j ∇W_ij (points into the fluid), surface phase
   std::vector<Mat3> stress_rho2_;  // S/ρ², per particle (pressure phase)
+  std::vector<Mat3> artificial_stress_;  // R_i of Monaghan (2000), per particle (forces phase)
   std::vector<double> pair_visc_;  // implicit viscosity weights, layout of lists_
   std::vector<Vec3> cg_r_, cg_z_, cg_p_, cg_ap_;
   // Per neighbour pair, in the layout of lists_ (computed by the density
