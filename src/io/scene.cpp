@@ -179,7 +179,65 @@ sph::BubbleDistribution parse_distribution(const std::string& s) {
   return sph::BubbleDistribution::uniform;
 }
 
+// The MPM setup from the same document: materials by name order, bodies and
+// colliders as for SPH (bodies already parsed into `sph` give the shapes).
+mpm::Setup build_mpm_setup(const Ctx& c, const json& doc, const sph::Setup& sph) {
+  mpm::Setup setup;
+  const json& mj = doc["solver"]["mpm"];
+  mpm::Settings& st = setup.settings;
+  st.cell_size = mj["cell_size"].get<double>();
+  st.particles_per_cell = mj["particles_per_cell"].get<int>();
+  st.reorder_every = mj["reorder_every"].get<int>();
+  st.cfl = doc["solver"]["cfl"].get<double>();
+  st.max_dt = doc["solver"]["max_dt"].get<double>();
+  for (auto it = doc["materials"].begin(); it != doc["materials"].end(); ++it) {
+    const json& m = it.value();
+    mpm::Material mat;
+    mat.name = it.key();
+    mat.density = m["density"].get<double>();
+    mat.lame = mpm::Lame::from_young(m["youngs_modulus"].get<double>(), m["poisson_ratio"].get<double>());
+    if (m["elastic_model"].get<std::string>() == "fixed_corotated") mat.elastic = mpm::FixedCorotated{mat.lame};
+    else mat.elastic = mpm::Hencky{mat.lame};
+    const json& pj = m["plasticity"];
+    if (pj["model"].get<std::string>() == "von_mises") {
+      if (std::holds_alternative<mpm::FixedCorotated>(mat.elastic))
+        c.fail("materials." + it.key() + ".plasticity", "von_mises plasticity needs elastic_model \"hencky\"");
+      mat.plastic = mpm::VonMises{pj["yield_stress"].get<double>(), pj["viscosity"].get<double>()};
+    }
+    setup.materials.push_back(mat);
+  }
+  for (std::size_t i = 0; i < sph.bodies.size(); ++i) {
+    const sph::Body& b = sph.bodies[i];
+    mpm::Body body;
+    body.name = b.name;
+    body.material = b.material;
+    body.shape = b.shape;
+    body.temperature = b.temperature;
+    body.velocity = b.velocity;
+    body.angular_velocity = vec3(doc["bodies"][i]["angular_velocity"]);
+    setup.bodies.push_back(std::move(body));
+  }
+  for (std::size_t i = 0; i < doc["colliders"].size(); ++i) {
+    const json& cj = doc["colliders"][i];
+    const std::string path = fmt::format("colliders[{}]", i);
+    mpm::GridCollider g;
+    g.collider.name = cj["name"].get<std::string>();
+    g.collider.geometry = build_collider_geometry(c, path + ".shape", cj["shape"], st.cell_size);
+    if (std::holds_alternative<MeshCollider>(g.collider.geometry))
+      c.fail(path + ".shape", "mesh colliders are not available for the MPM solver yet (planes, boxes and containers are)");
+    const std::string contact = cj["contact"].get<std::string>();
+    g.contact = contact == "sticky" ? mpm::Contact::sticky : contact == "slip" ? mpm::Contact::slip : mpm::Contact::separate;
+    g.friction = cj["friction"].get<double>();
+    setup.colliders.push_back(std::move(g));
+  }
+  setup.domain = {vec3(doc["domain"]["min"]), vec3(doc["domain"]["max"])};
+  setup.domain_friction = doc["domain"]["friction"].get<double>();
+  setup.gravity = vec3(doc["gravity"]);
+  return setup;
+}
+
 }  // namespace
+
 
 Scene parse_scene(const std::string& text, const std::string& file, const std::string& base_dir) {
   json doc;
@@ -207,10 +265,9 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::s
   }
   sc.description = doc["description"].get<std::string>();
   sc.solver_type = doc["solver"]["type"].get<std::string>();
-  if (sc.solver_type == "mpm")
-    c.fail("solver.type", "the MPM solver is not available in this version of bakesim yet; use \"sph\"");
-  if (!doc["solver"].contains("sph"))
-    c.fail("solver", "missing section 'sph' (required when solver.type is \"sph\"; it needs at least 'spacing')");
+  if (!doc["solver"].contains(sc.solver_type))
+    c.fail("solver", fmt::format("missing section '{0}' (required when solver.type is \"{0}\"; it needs at least '{1}')",
+                                 sc.solver_type, sc.solver_type == "sph" ? "spacing" : "cell_size"));
 
   sc.end_time = doc["time"]["end"].get<double>();
   sc.fps = doc["time"]["fps"].get<double>();
@@ -286,6 +343,9 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::s
     setup.bodies.push_back(std::move(body));
   }
 
+  if (sc.solver_type == "mpm") {
+    sc.mpm = build_mpm_setup(c, doc, setup);
+  } else {
   const json& sj = doc["solver"]["sph"];
   sph::Settings& st = setup.settings;
   st.spacing = sj["spacing"].get<double>();
@@ -357,6 +417,7 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::s
     col.heat_transfer_coefficient = cj["heat_transfer_coefficient"].get<double>();
     setup.colliders.push_back(std::move(col));
   }
+  }  // sph
 
   for (std::size_t i = 0; i < doc["probes"].size(); ++i) {
     const json& pj = doc["probes"][i];
@@ -386,7 +447,10 @@ Scene load_scene(const std::string& path) {
   return parse_scene(ss.str(), path, dir.empty() ? "." : dir);
 }
 
-std::unique_ptr<Solver> make_solver(const Scene& scene) { return std::make_unique<sph::SphSolver>(scene.sph); }
+std::unique_ptr<Solver> make_solver(const Scene& scene) {
+  if (scene.solver_type == "mpm") return std::make_unique<mpm::MpmSolver>(scene.mpm);
+  return std::make_unique<sph::SphSolver>(scene.sph);
+}
 
 std::string describe(const Scene& scene, Solver& solver) {
   std::string out;
@@ -395,6 +459,20 @@ std::string describe(const Scene& scene, Solver& solver) {
   out += fmt::format("solver     {}\n", scene.solver_type);
   const int frames = static_cast<int>(std::ceil(scene.end_time * scene.fps - 1e-9));
   out += fmt::format("time       {} s at {} fps: {} frames\n", scene.end_time, scene.fps, frames);
+  if (scene.solver_type == "mpm") {
+    const auto& ms = scene.mpm.settings;
+    const auto& mpm_solver = dynamic_cast<const mpm::MpmSolver&>(solver);
+    out += fmt::format("grid       cell {} m, {} particles per cell\n", ms.cell_size, ms.particles_per_cell);
+    out += fmt::format("particles  {} in total, mass {:.4g} kg\n", solver.particles().size(), mpm_solver.total_mass());
+    for (const auto& mat : scene.mpm.materials)
+      out += fmt::format("  material {:<12} rho {} kg/m^3, mu {:.4g} Pa, lambda {:.4g} Pa, {}, {}\n", mat.name, mat.density, mat.lame.mu,
+                         mat.lame.lambda, std::holds_alternative<mpm::Hencky>(mat.elastic) ? "hencky" : "fixed corotated",
+                         std::holds_alternative<mpm::VonMises>(mat.plastic) ? "von Mises plasticity" : "elastic");
+    const Real dt = solver.max_stable_dt();
+    out += fmt::format("time step  {:.3e} s at t = 0 ({}), about {:.0f} steps for the whole run at this rate\n", dt,
+                       solver.active_dt_bound(), scene.end_time / dt);
+    return out;
+  }
   const auto& st = scene.sph.settings;
   out += fmt::format("spacing    {} m, support h = {} m, speed of sound {:.3g} m/s, neighbour search {}\n", st.spacing,
                      st.spacing * st.smoothing_ratio, st.speed_of_sound, sph::to_string(st.search));

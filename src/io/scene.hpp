@@ -9,6 +9,7 @@
 
 #include "core/solver.hpp"
 #include "physics/curves.hpp"
+#include "mpm/solver.hpp"
 #include "sph/solver.hpp"
 
 namespace bakesim {
@@ -30,7 +31,7 @@ struct Scene {
   std::string file;         // as given by the user
   std::string name;
   std::string description;
-  std::string solver_type;  // "sph"
+  std::string solver_type;  // "sph" or "mpm"
   nlohmann::json resolved;  // the document with every default filled in
   Real end_time = 1.0;
   Real fps = 30.0;
@@ -39,7 +40,8 @@ struct Scene {
   Real bake_time_scale = 1.0;  // bake seconds per simulated second
   std::vector<ProbeSpec> probes;
   OutputSpec output;
-  sph::Setup sph;
+  sph::Setup sph;  // bodies and materials are parsed here for both solvers
+  mpm::Setup mpm;
 };
 
 // Reads and validates a scene file. Throws InputError (file:line:column for

@@ -1,0 +1,57 @@
+#pragma once
+// Finite-strain elastoplastic laws of the MPM solver (spec mpm-baking.md 3.1,
+// 3.2): small value types, dispatched once per material group. Each maps the
+// trial elastic deformation gradient F^E to the Kirchhoff stress τ = P Fᵀ and
+// (for plasticity) projects F^E back onto the admissible set.
+#include <variant>
+
+#include "core/types.hpp"
+
+namespace bakesim::mpm {
+
+// Lamé parameters from Young's modulus E and Poisson's ratio ν.
+struct Lame {
+  Real mu, lambda;
+  static Lame from_young(Real young, Real poisson) {
+    return {young / (2 * (1 + poisson)), young * poisson / ((1 + poisson) * (1 - 2 * poisson))};
+  }
+};
+
+// F = U diag(σ) Vᵀ with U, V rotations (det +1); σ may have a negative last
+// entry for an inverted F. Closed-form eigen-decomposition of FᵀF, with a
+// Jacobi SVD where that is ill-conditioned (nearly equal or tiny σ).
+struct Svd3 {
+  Mat3 u, v;
+  Vec3 sigma;
+};
+Svd3 svd3(const Mat3& f);
+
+// ψ = μ tr(ε²) + ½ λ (tr ε)², ε = log σ (Hencky strain); τ = U (2μ ε + λ tr ε I) Uᵀ.
+struct Hencky {
+  Lame lame;
+};
+// ψ = μ Σ(σ_i − 1)² + ½ λ (J − 1)²; τ = 2μ (F − R) Fᵀ + λ (J − 1) J I (Stomakhin et al. 2013).
+struct FixedCorotated {
+  Lame lame;
+};
+using ElasticLaw = std::variant<Hencky, FixedCorotated>;
+
+// Kirchhoff stress of an elastic law at F (and its SVD).
+Mat3 kirchhoff_stress(const ElasticLaw& law, const Mat3& f, const Svd3& svd);
+// Energy density ψ(F) (for tests against finite differences).
+Real energy_density(const ElasticLaw& law, const Mat3& f);
+
+struct NoPlasticity {};
+// von Mises in Hencky strain: q = sqrt(3/2) ‖dev τ‖ ≤ τ_y, with the
+// viscoplastic relaxation of spec 3.2 step 3 (viscosity η; 0: rate-independent).
+struct VonMises {
+  Real yield_stress;   // τ_y (uniaxial), Pa
+  Real viscosity = 0;  // η, Pa·s
+};
+using PlasticLaw = std::variant<NoPlasticity, VonMises>;
+
+// Return mapping of spec 3.2 for a Hencky material: projects the trial F^E
+// (given with its SVD) and returns the new F^E. Unchanged when elastic.
+Mat3 return_map(const VonMises& law, const Lame& lame, Real dt, const Svd3& svd);
+
+}  // namespace bakesim::mpm

@@ -1,0 +1,88 @@
+// MPM constitutive laws: the SVD, Kirchhoff stress against finite differences
+// of the energy density (τ = ∂ψ/∂F Fᵀ), and the von Mises return mapping.
+#include <gtest/gtest.h>
+
+#include <Eigen/LU>
+#include <cmath>
+
+#include "mpm/constitutive.hpp"
+
+using namespace bakesim;
+using namespace bakesim::mpm;
+
+namespace {
+
+Mat3 sample_f(int k) {
+  Mat3 f;
+  f << 1.1, 0.2, -0.05, 0.1, 0.9, 0.15, -0.1, 0.05, 1.2;
+  if (k == 1) f << 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0;
+  if (k == 2) f << 1.3, 0.0, 0.0, 0.0, 1.3, 0.0, 0.0, 0.0, 0.7;  // repeated singular values
+  if (k == 3) f << 0.6, 0.4, 0.0, -0.3, 0.8, 0.1, 0.2, 0.0, 1.5;
+  return f;
+}
+
+Mat3 stress_by_finite_differences(const ElasticLaw& law, const Mat3& f) {
+  Mat3 p;
+  const Real h = 1e-6;
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b) {
+      Mat3 fp = f, fm = f;
+      fp(a, b) += h;
+      fm(a, b) -= h;
+      p(a, b) = (energy_density(law, fp) - energy_density(law, fm)) / (2 * h);
+    }
+  return p * f.transpose();
+}
+
+}  // namespace
+
+TEST(MpmLaws, SvdReconstructsWithRotations) {
+  for (int k = 0; k < 4; ++k) {
+    const Mat3 f = sample_f(k);
+    const Svd3 s = svd3(f);
+    EXPECT_NEAR((s.u * s.sigma.asDiagonal() * s.v.transpose() - f).norm(), 0.0, 1e-12) << k;
+    EXPECT_NEAR(s.u.determinant(), 1.0, 1e-12);
+    EXPECT_NEAR(s.v.determinant(), 1.0, 1e-12);
+    EXPECT_NEAR((s.u.transpose() * s.u - Mat3::Identity()).norm(), 0.0, 1e-12);
+  }
+  // An inverted F keeps rotations and puts the sign in the smallest σ.
+  Mat3 inv = sample_f(0);
+  inv.col(2) *= -1;
+  const Svd3 s = svd3(inv);
+  EXPECT_LT(s.sigma.prod(), 0);
+  EXPECT_NEAR((s.u * s.sigma.asDiagonal() * s.v.transpose() - inv).norm(), 0.0, 1e-12);
+}
+
+TEST(MpmLaws, KirchhoffStressIsTheEnergyDerivative) {
+  const Lame lame = Lame::from_young(1e4, 0.3);
+  for (const ElasticLaw& law : {ElasticLaw(Hencky{lame}), ElasticLaw(FixedCorotated{lame})})
+    for (int k : {0, 2, 3}) {
+      const Mat3 f = sample_f(k);
+      const Mat3 tau = kirchhoff_stress(law, f, svd3(f));
+      const Mat3 fd = stress_by_finite_differences(law, f);
+      EXPECT_NEAR((tau - fd).norm() / fd.norm(), 0.0, 1e-6) << "law " << law.index() << " F " << k;
+    }
+  // Stress free at rest.
+  EXPECT_NEAR(kirchhoff_stress(Hencky{lame}, Mat3::Identity(), svd3(Mat3::Identity())).norm(), 0.0, 1e-12);
+}
+
+TEST(MpmLaws, VonMisesProjectsOntoTheYieldSurfaceAndKeepsVolume) {
+  const Lame lame = Lame::from_young(1e4, 0.3);
+  const VonMises vm{100.0, 0.0};
+  const Mat3 f = sample_f(3);
+  const Mat3 fe = return_map(vm, lame, 1e-3, svd3(f));
+  const Mat3 tau = kirchhoff_stress(Hencky{lame}, fe, svd3(fe));
+  const Mat3 dev = tau - tau.trace() / 3 * Mat3::Identity();
+  EXPECT_NEAR(std::sqrt(1.5) * dev.norm(), 100.0, 1e-9);          // on f = 0
+  EXPECT_NEAR(fe.determinant(), f.determinant(), 1e-12);          // plastic flow is isochoric
+  // Viscoplastic: part of the way back, by 1/(1 + 2μΔt/η).
+  const VonMises slow{100.0, 2 * lame.mu * 1e-3};                  // keep = 1/2
+  const Mat3 fs = return_map(slow, lame, 1e-3, svd3(f));
+  const Mat3 ts = kirchhoff_stress(Hencky{lame}, fs, svd3(fs));
+  const Mat3 tt = kirchhoff_stress(Hencky{lame}, f, svd3(f));
+  const auto q = [](const Mat3& t) { return std::sqrt(1.5) * (t - t.trace() / 3 * Mat3::Identity()).norm(); };
+  EXPECT_NEAR(q(ts), 100.0 + 0.5 * (q(tt) - 100.0), 1e-6 * q(tt));
+  // Inside the yield surface nothing changes.
+  const Mat3 small = Mat3::Identity() + 1e-4 * sample_f(0);
+  EXPECT_NEAR((return_map(vm, lame, 1e-3, svd3(small)) - small).norm(), 0.0, 1e-12);
+}
