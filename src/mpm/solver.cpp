@@ -145,30 +145,24 @@ void MpmSolver::build_particles() {
   stress_.assign(total, Mat3::Zero());
 }
 
-Mat3 MpmSolver::deformation_gradient(std::size_t i) const {
-  Mat3 f;
-  f.col(0) = f0_[i];
-  f.col(1) = f1_[i];
-  f.col(2) = f2_[i];
-  return f;
+namespace {
+// 3×3 per-particle matrices are stored as three column attributes.
+Mat3 from_columns(const Vec3& a, const Vec3& b, const Vec3& c) {
+  Mat3 m;
+  m << a, b, c;
+  return m;
 }
-void MpmSolver::set_deformation_gradient(std::size_t i, const Mat3& f) {
-  f0_[i] = f.col(0);
-  f1_[i] = f.col(1);
-  f2_[i] = f.col(2);
+void to_columns(const Mat3& m, Vec3& a, Vec3& b, Vec3& c) {
+  a = m.col(0);
+  b = m.col(1);
+  c = m.col(2);
 }
-Mat3 MpmSolver::affine(std::size_t i) const {
-  Mat3 c;
-  c.col(0) = c0_[i];
-  c.col(1) = c1_[i];
-  c.col(2) = c2_[i];
-  return c;
-}
-void MpmSolver::set_affine(std::size_t i, const Mat3& c) {
-  c0_[i] = c.col(0);
-  c1_[i] = c.col(1);
-  c2_[i] = c.col(2);
-}
+}  // namespace
+
+Mat3 MpmSolver::deformation_gradient(std::size_t i) const { return from_columns(f0_[i], f1_[i], f2_[i]); }
+void MpmSolver::set_deformation_gradient(std::size_t i, const Mat3& f) { to_columns(f, f0_[i], f1_[i], f2_[i]); }
+Mat3 MpmSolver::affine(std::size_t i) const { return from_columns(c0_[i], c1_[i], c2_[i]); }
+void MpmSolver::set_affine(std::size_t i, const Mat3& c) { to_columns(c, c0_[i], c1_[i], c2_[i]); }
 
 Real MpmSolver::total_mass() const {
   return deterministic_sum(m_.size(), [&](std::size_t i) { return m_[i]; });
