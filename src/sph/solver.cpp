@@ -113,6 +113,7 @@ SphSolver::SphSolver(Setup setup)
   adaptive_ = s.adaptive.enabled;
   for (const Material& m : setup_.materials)
     elastic_ |= !is_constant(m.elasticity) || std::get<ConstantCurve>(m.elasticity).value != 0.0;
+  for (const Material& m : setup_.materials) follows_peak_ |= m.properties_follow_peak;
   for (const Body& b : setup_.bodies)
     bubble_b_.push_back(b.bubbles.pressure_scale ? *b.bubbles.pressure_scale
                                                  : tait_b_.at(std::clamp<int>(b.material, 0, int(tait_b_.size()) - 1)));
@@ -507,8 +508,10 @@ void SphSolver::phase_forces() {
     }, 1024);
   }
   const Mat3* art = art_stress ? artificial_stress_.data() : nullptr;
-  const Real spacing_ratio = s.spacing / h;  // Δp / h, also for h_ij
+  // f = W(r)/W(Δp) with the pair's W from the density phase; with adaptive h
+  // the spacing scales with h_ij, and W_hij(Δp h_ij/h) = W_h(Δp) (h/h_ij)³.
   const Real inv_w_dp = 1.0 / kernel_.w(s.spacing);
+  const Real inv_h3 = 1.0 / (h * h * h);
   parallel_for(x_.size(), [&](std::size_t i) {
     const Vec3 xi = x[i], vi = v[i];
     const Real hi = hsup[i];
@@ -524,6 +527,7 @@ void SphSolver::phase_forces() {
     const std::uint32_t count = lists_.count(i);
     const float* pr = lists_.distances(i);
     const float* pd = pair_dwr_.data() + i * lists_.stride();
+    const float* pw = pair_w_.data() + i * lists_.stride();
     for (std::uint32_t k = 0; k < count; ++k) {
       const std::uint32_t j = nb[k];
       const Real r = pr[k];
@@ -544,7 +548,7 @@ void SphSolver::phase_forces() {
       if (elastic) acc_s += m[j] * ((s_rho2[i] + s_rho2[j]) * grad);
       // Artificial stress: m_j f_ij^n (R_i + R_j) ∇_i W_ij, f = W(r)/W(Δp).
       if (art_stress) {
-        const Real f = adaptive ? CubicSpline(hij).w(r) / CubicSpline(hij).w(spacing_ratio * hij) : kernel_.w(r) * inv_w_dp;
+        const Real f = Real(pw[k]) * inv_w_dp * (adaptive ? hij * hij * hij * inv_h3 : 1.0);
         const Real fn = art_n == 4.0 ? (f * f) * (f * f) : std::pow(f, art_n);
         acc_s += (m[j] * fn) * ((art[i] + art[j]) * grad);
       }
@@ -790,14 +794,16 @@ void SphSolver::phase_heat(Real dt) {
 }
 
 // Eq 4.1–4.4: viscosity, elasticity, relaxation time and XSPH tuner follow
-// each particle's temperature (or the peak it reached, for irreversible setting). Each curve is visited once per material; the
-// particle loop sees a plain callable. Then the rise state of Eq 3.48–3.52.
+// each particle's temperature (or the peak it reached, for irreversible
+// setting). Each curve is visited once per material; the particle loop sees
+// a plain callable. Then the rise state of Eq 3.48–3.52.
 void SphSolver::phase_properties() {
   ScopedPhase t(timers_, t_properties_);
   const std::size_t n = x_.size();
-  parallel_for(n, [&](std::size_t i) {
-    peak_temperature_[i] = std::max(peak_temperature_[i], temperature_[i]);
-  }, 4096);
+  if (follows_peak_)
+    parallel_for(n, [&](std::size_t i) {
+      peak_temperature_[i] = std::max(peak_temperature_[i], temperature_[i]);
+    }, 4096);
   auto follow = [&](int id, const TemperatureCurve& c, std::vector<Real>& out, Real lo, Real hi) {
     if (is_constant(c)) return;
     const std::vector<Real>& t = setup_.materials[id].properties_follow_peak ? peak_temperature_ : temperature_;

@@ -225,6 +225,7 @@ class SphSolver final : public Solver {
   bool implicit_viscosity_ = false;
   bool elastic_ = false;  // some material has a Maxwell stress (μ_e not identically 0)
   bool heated_colliders_ = false;   // some collider carries a temperature
+  bool follows_peak_ = false;       // some material reads its curves at the peak temperature
   bool adaptive_ = false;           // per-particle smoothing length (Eq 3.54–3.56)
   std::vector<Real> exchange_area_;  // per material: π r² of a surface particle (Eq 3.43)
   int viscosity_iterations_ = 0;
