@@ -52,17 +52,21 @@ Svd3 svd3(const Mat3& f) {
   return out;
 }
 
-Mat3 kirchhoff_stress(const ElasticLaw& law, const Mat3& f, const Svd3& svd) {
-  if (const auto* h = std::get_if<Hencky>(&law)) {
-    const Vec3 eps = svd.sigma.cwiseAbs().array().log().matrix();
-    const Real tr = eps.sum();
-    const Vec3 t = (2 * h->lame.mu * eps).array() + h->lame.lambda * tr;
-    return svd.u * t.asDiagonal() * svd.u.transpose();
-  }
-  const auto& c = std::get<FixedCorotated>(law);
+Mat3 kirchhoff_stress(const Hencky& law, const Mat3&, const Svd3& svd) {
+  const Vec3 eps = svd.sigma.cwiseAbs().array().log().matrix();
+  const Real tr = eps.sum();
+  const Vec3 t = (2 * law.lame.mu * eps).array() + law.lame.lambda * tr;
+  return svd.u * t.asDiagonal() * svd.u.transpose();
+}
+
+Mat3 kirchhoff_stress(const FixedCorotated& law, const Mat3& f, const Svd3& svd) {
   const Mat3 r = svd.u * svd.v.transpose();
   const Real j = svd.sigma.prod();
-  return 2 * c.lame.mu * (f - r) * f.transpose() + (c.lame.lambda * (j - 1) * j) * Mat3::Identity();
+  return 2 * law.lame.mu * (f - r) * f.transpose() + (law.lame.lambda * (j - 1) * j) * Mat3::Identity();
+}
+
+Mat3 kirchhoff_stress(const ElasticLaw& law, const Mat3& f, const Svd3& svd) {
+  return std::visit([&](const auto& l) { return kirchhoff_stress(l, f, svd); }, law);
 }
 
 Real energy_density(const ElasticLaw& law, const Mat3& f) {
@@ -76,19 +80,18 @@ Real energy_density(const ElasticLaw& law, const Mat3& f) {
   return c.lame.mu * (s.sigma - Vec3::Ones()).squaredNorm() + 0.5 * c.lame.lambda * (j - 1) * (j - 1);
 }
 
-Mat3 return_map(const VonMises& law, const Lame& lame, Real dt, const Svd3& svd) {
+Svd3 return_map(const VonMises& law, const Lame& lame, Real dt, const Svd3& svd) {
   // Spec 3.2 with A = 0: the trial deviatoric Hencky strain is scaled onto
   // q = τ_y, then relaxed back towards the trial by 1/(1 + 2μΔt/η).
   const Vec3 eps = svd.sigma.cwiseAbs().array().max(1e-12).log().matrix();
   const Real mean = eps.sum() / 3;
   const Vec3 dev = eps.array() - mean;
   const Real q = std::sqrt(1.5) * 2 * lame.mu * dev.norm();
-  if (q <= law.yield_stress) return svd.u * svd.sigma.asDiagonal() * svd.v.transpose();
+  if (q <= law.yield_stress) return svd;
   const Vec3 dev_proj = dev * (law.yield_stress / q);
   const Real keep = law.viscosity > 0 ? 1.0 / (1.0 + 2 * lame.mu * dt / law.viscosity) : 0.0;
   const Vec3 dev_new = dev_proj + keep * (dev - dev_proj);
-  const Vec3 sigma_new = (dev_new.array() + mean).exp().matrix();
-  return svd.u * sigma_new.asDiagonal() * svd.v.transpose();
+  return Svd3{svd.u, svd.v, (dev_new.array() + mean).exp().matrix()};
 }
 
 }  // namespace bakesim::mpm

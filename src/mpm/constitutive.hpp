@@ -36,7 +36,10 @@ struct FixedCorotated {
 };
 using ElasticLaw = std::variant<Hencky, FixedCorotated>;
 
-// Kirchhoff stress of an elastic law at F (and its SVD).
+// Kirchhoff stress of an elastic law at F (and its SVD). The solver calls the
+// overload of the material's law inside one std::visit per material group.
+Mat3 kirchhoff_stress(const Hencky& law, const Mat3& f, const Svd3& svd);
+Mat3 kirchhoff_stress(const FixedCorotated& law, const Mat3& f, const Svd3& svd);
 Mat3 kirchhoff_stress(const ElasticLaw& law, const Mat3& f, const Svd3& svd);
 // Energy density ψ(F) (for tests against finite differences).
 Real energy_density(const ElasticLaw& law, const Mat3& f);
@@ -51,7 +54,9 @@ struct VonMises {
 using PlasticLaw = std::variant<NoPlasticity, VonMises>;
 
 // Return mapping of spec 3.2 for a Hencky material: projects the trial F^E
-// (given with its SVD) and returns the new F^E. Unchanged when elastic.
-Mat3 return_map(const VonMises& law, const Lame& lame, Real dt, const Svd3& svd);
+// (given by its SVD) and returns the SVD of the new F^E — the same rotations
+// with new singular values; unchanged when elastic.
+Svd3 return_map(const VonMises& law, const Lame& lame, Real dt, const Svd3& svd);
+inline Mat3 compose(const Svd3& s) { return s.u * s.sigma.asDiagonal() * s.v.transpose(); }
 
 }  // namespace bakesim::mpm

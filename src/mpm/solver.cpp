@@ -36,6 +36,27 @@ inline Axis axis_weights(Real xi, Real inv_dx) {
   return a;
 }
 
+// Visits the 27 nodes of a particle's stencil: fn(node index, w_ip,
+// (x_i − x_p)/Δx, ∇w_ip). Shared by P2G and G2P.
+template <class Fn>
+inline void for_each_node(const Axis& ax, const Axis& ay, const Axis& az, int ny, int nz, Fn&& fn) {
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b) {
+      const std::size_t row = (std::size_t(ax.base + a) * ny + (ay.base + b)) * nz + az.base;
+      const Real wab = ax.w[a] * ay.w[b];
+      for (int c = 0; c < 3; ++c)
+        fn(row + c, wab * az.w[c], Vec3(ax.offset[a], ay.offset[b], az.offset[c]),
+           Vec3(ax.dw[a] * ay.w[b] * az.w[c], ax.w[a] * ay.dw[b] * az.w[c], wab * az.dw[c]));
+    }
+}
+
+// Symmetric 3×3 matrices as two attributes: the diagonal and (xy, xz, yz).
+Mat3 symmetric(const Vec3& d, const Vec3& o) {
+  Mat3 m;
+  m << d.x(), o.x(), o.y(), o.x(), d.y(), o.z(), o.y(), o.z(), d.z();
+  return m;
+}
+
 void apply_contact(Vec3& v, const Vec3& n, Contact contact, Real mu) {
   const Real vn = v.dot(n);
   if (contact == Contact::sticky) {
@@ -67,6 +88,8 @@ MpmSolver::MpmSolver(Setup setup)
       c0_(particles_.add_vector("C_col0", "1/s", false)),
       c1_(particles_.add_vector("C_col1", "1/s", false)),
       c2_(particles_.add_vector("C_col2", "1/s", false)),
+      tau_diag_(particles_.add_vector("kirchhoff_normal", "Pa", false)),
+      tau_off_(particles_.add_vector("kirchhoff_shear", "Pa", false)),
       material_(particles_.add_int("material_id")),
       body_(particles_.add_int("body_id")),
       id_(particles_.add_int("id")) {
@@ -142,7 +165,6 @@ void MpmSolver::build_particles() {
     c << 0, -w.z(), w.y(), w.z(), 0, -w.x(), -w.y(), w.x(), 0;
     set_affine(i, c);
   }
-  stress_.assign(total, Mat3::Zero());
 }
 
 namespace {
@@ -226,16 +248,11 @@ void MpmSolver::phase_sort() {
   for (std::size_t i = 0; i < n; ++i) ++block_start_[block_key_[i] + 1];
   for (std::size_t b = 0; b < blocks; ++b) block_start_[b + 1] += block_start_[b];
   order_.resize(n);
-  {
-    std::vector<std::uint32_t> fill(block_start_.begin(), block_start_.end() - 1);
-    for (std::size_t i = 0; i < n; ++i) order_[fill[block_key_[i]]++] = static_cast<std::uint32_t>(i);
-  }
+  block_fill_.assign(block_start_.begin(), block_start_.end() - 1);
+  for (std::size_t i = 0; i < n; ++i) order_[block_fill_[block_key_[i]]++] = static_cast<std::uint32_t>(i);
   const int every = std::max(1, setup_.settings.reorder_every);
   if (steps_ % every == 0) {
     particles_.permute(order_);
-    std::vector<Mat3> s(n);
-    for (std::size_t i = 0; i < n; ++i) s[i] = stress_[order_[i]];
-    stress_.swap(s);
     for (std::size_t i = 0; i < n; ++i) order_[i] = static_cast<std::uint32_t>(i);
   }
   colour_blocks_.assign(8, {});
@@ -255,7 +272,6 @@ void MpmSolver::phase_p2g(Real dt) {
     grid_mom_[k].setZero();
   }, 1 << 14);
   const Vec3 origin = setup_.domain.min;
-  const std::size_t syz = std::size_t(ny_) * nz_;
   for (const auto& blocks : colour_blocks_) {
     parallel_for(blocks.size(), [&](std::size_t bi) {
       const std::uint32_t b = blocks[bi];
@@ -265,25 +281,15 @@ void MpmSolver::phase_p2g(Real dt) {
         const Axis ax = axis_weights(g.x(), inv_dx_), ay = axis_weights(g.y(), inv_dx_), az = axis_weights(g.z(), inv_dx_);
         const Real mp = m_[p];
         const Mat3 c = affine(p) * dx_;  // C (x_i − x_p) = (C Δx) · offset
-        const Mat3 force = -dt * volume0_[p] * stress_[p];
+        const Mat3 force = -dt * volume0_[p] * symmetric(tau_diag_[p], tau_off_[p]);
         const Vec3 mv = mp * v_[p];
-        for (int a = 0; a < 3; ++a) {
-          for (int bb = 0; bb < 3; ++bb) {
-            const std::size_t row = (std::size_t(ax.base + a) * ny_ + (ay.base + bb)) * nz_ + az.base;
-            for (int cc = 0; cc < 3; ++cc) {
-              const Real w = ax.w[a] * ay.w[bb] * az.w[cc];
-              const Vec3 off(ax.offset[a], ay.offset[bb], az.offset[cc]);
-              const Vec3 grad(ax.dw[a] * ay.w[bb] * az.w[cc], ax.w[a] * ay.dw[bb] * az.w[cc], ax.w[a] * ay.w[bb] * az.dw[cc]);
-              const std::size_t node = row + cc;
-              grid_mass_[node] += w * mp;
-              grid_mom_[node] += w * (mv + mp * (c * off)) + force * grad;
-            }
-          }
-        }
+        for_each_node(ax, ay, az, ny_, nz_, [&](std::size_t node, Real w, const Vec3& off, const Vec3& grad) {
+          grid_mass_[node] += w * mp;
+          grid_mom_[node] += w * (mv + mp * (c * off)) + force * grad;
+        });
       }
     }, 1);
   }
-  (void)syz;
 }
 
 // Spec 4.4: v_i = (m v)_i / m_i + Δt g, then the collider conditions.
@@ -318,19 +324,12 @@ void MpmSolver::phase_g2p(Real dt) {
     Vec3 v = Vec3::Zero();
     Mat3 b = Mat3::Zero();
     Mat3 grad_v = Mat3::Zero();
-    for (int a = 0; a < 3; ++a)
-      for (int bb = 0; bb < 3; ++bb) {
-        const std::size_t row = (std::size_t(ax.base + a) * ny_ + (ay.base + bb)) * nz_ + az.base;
-        for (int cc = 0; cc < 3; ++cc) {
-          const Real w = ax.w[a] * ay.w[bb] * az.w[cc];
-          const Vec3 off(ax.offset[a], ay.offset[bb], az.offset[cc]);
-          const Vec3 grad(ax.dw[a] * ay.w[bb] * az.w[cc], ax.w[a] * ay.dw[bb] * az.w[cc], ax.w[a] * ay.w[bb] * az.dw[cc]);
-          const Vec3& vi = grid_mom_[row + cc];
-          v += w * vi;
-          b += (w * vi) * off.transpose();
-          grad_v += vi * grad.transpose();
-        }
-      }
+    for_each_node(ax, ay, az, ny_, nz_, [&](std::size_t node, Real w, const Vec3& off, const Vec3& grad) {
+      const Vec3& vi = grid_mom_[node];
+      v += w * vi;
+      b += (w * vi) * off.transpose();
+      grad_v += vi * grad.transpose();
+    });
     v_[p] = v;
     set_affine(p, b * d_inv);
     const Mat3 df = Mat3::Identity() + dt * grad_v;
@@ -349,7 +348,6 @@ void MpmSolver::phase_plasticity(Real dt) {
     const Material& mat = setup_.materials[mi];
     const int id = static_cast<int>(mi);
     std::visit([&](const auto& elastic) {
-      const ElasticLaw law = elastic;
       std::visit([&](const auto& plastic) {
         using P = std::decay_t<decltype(plastic)>;
         parallel_for(n, [&](std::size_t i) {
@@ -357,15 +355,17 @@ void MpmSolver::phase_plasticity(Real dt) {
           Mat3 f = deformation_gradient(i);
           Svd3 s = svd3(f);
           if constexpr (std::is_same_v<P, VonMises>) {
-            const Mat3 f_new = return_map(plastic, mat.lame, dt, s);
-            if (f_new != f) {
-              f = f_new;
-              s = svd3(f);
+            const Vec3 trial = s.sigma;
+            s = return_map(plastic, mat.lame, dt, s);
+            if (s.sigma != trial) {
+              f = compose(s);
               set_deformation_gradient(i, f);
             }
             jp_[i] = j_[i] / s.sigma.prod();
           }
-          stress_[i] = kirchhoff_stress(law, f, s);
+          const Mat3 tau = kirchhoff_stress(elastic, f, s);
+          tau_diag_[i] = tau.diagonal();
+          tau_off_[i] = Vec3(tau(0, 1), tau(0, 2), tau(1, 2));
         }, 1024);
       }, mat.plastic);
     }, mat.elastic);

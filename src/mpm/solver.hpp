@@ -110,6 +110,8 @@ class MpmSolver final : public Solver {
   std::vector<Vec3>& c0_;
   std::vector<Vec3>& c1_;
   std::vector<Vec3>& c2_;
+  std::vector<Vec3>& tau_diag_;  // Kirchhoff τ for the next P2G: τ_xx, τ_yy, τ_zz
+  std::vector<Vec3>& tau_off_;   // τ_xy, τ_xz, τ_yz
   std::vector<std::int32_t>& material_;
   std::vector<std::int32_t>& body_;
   std::vector<std::int32_t>& id_;
@@ -128,7 +130,7 @@ class MpmSolver final : public Solver {
   std::vector<std::uint32_t> block_start_;  // per block, into order_ (size blocks + 1)
   std::vector<std::uint32_t> block_key_;
   std::vector<std::vector<std::uint32_t>> colour_blocks_;  // non-empty blocks per colour
-  std::vector<Mat3> stress_;  // Kirchhoff τ per particle (this step)
+  std::vector<std::uint32_t> block_fill_;  // counting-sort cursors, reused
 
   std::size_t t_sort_, t_p2g_, t_grid_, t_g2p_, t_plastic_, t_check_;
   Real time_ = 0;
