@@ -6,6 +6,7 @@
 
 #include <cmath>
 
+#include "core/errors.hpp"
 #include "core/timers.hpp"
 #include "io/scene.hpp"
 
@@ -30,6 +31,30 @@ std::string dam_break_scene_json(long particles, const std::string& search) {
                      fmt::arg("ly", 3 * a), fmt::arg("depth", depth), fmt::arg("a", a), fmt::arg("h", 2 * a));
 }
 
+std::string mpm_cube_scene_json(long particles, const std::string& model) {
+  const double side = 0.2;
+  const double cell = side / std::cbrt(double(particles) / 8.0);
+  std::string material;
+  if (model == "elastic")
+    material = R"("density": 1000, "youngs_modulus": 1e5, "poisson_ratio": 0.3)";
+  else if (model == "viscoplastic")
+    material = R"("density": 1000, "youngs_modulus": 1e5, "poisson_ratio": 0.3, "plasticity": {"model": "von_mises", "yield_stress": 200, "viscosity": 10})";
+  else
+    throw InputError("bench --model", "unknown MPM benchmark model '" + model + "' (elastic, viscoplastic)");
+  // The cube moves down at 1 m/s onto the floor: the timed steps squash it.
+  return fmt::format(R"({{
+  "name": "mpm-cube-bench",
+  "solver": {{"type": "mpm", "mpm": {{"cell_size": {cell}, "particles_per_cell": 8}}}},
+  "time": {{"end": 1.0, "fps": 1}},
+  "domain": {{"min": [-0.2, 0, -0.2], "max": [0.2, 0.4, 0.2]}},
+  "materials": {{"dough": {{{material}}}}},
+  "bodies": [{{"name": "cube", "material": "dough", "velocity": [0, -1, 0],
+              "shape": {{"type": "box", "min": [-0.1, 0.03, -0.1], "max": [0.1, 0.23, 0.1]}}}}],
+  "colliders": [{{"name": "floor", "shape": {{"type": "plane", "point": [0, 0.03, 0], "normal": [0, 1, 0]}}, "contact": "separate", "friction": 0.3}}]
+}})",
+                     fmt::arg("cell", cell), fmt::arg("material", material));
+}
+
 int run_bench(const BenchOptions& opt) {
   const int hw = static_cast<int>(tbb::info::default_concurrency());
   std::vector<int> threads = opt.threads;
@@ -37,13 +62,16 @@ int run_bench(const BenchOptions& opt) {
     threads.push_back(1);
     if (hw > 1) threads.push_back(hw);
   }
-  fmt::print("bakesim bench: SPH dam break, {} steps per case, machine has {} hardware threads\n", opt.steps, hw);
-  fmt::print("{:>10} {:>8} {:>8} {:>14} {:>12}\n", "particles", "search", "threads", "particle-steps/s", "ms/step");
+  const bool mpm = opt.solver == "mpm";
+  if (!mpm && opt.solver != "sph") throw InputError("bench --solver", "unknown solver '" + opt.solver + "' (sph, mpm)");
+  fmt::print("bakesim bench: {}, {} steps per case, machine has {} hardware threads\n",
+             mpm ? "MPM cube squashed on the floor" : "SPH dam break", opt.steps, hw);
+  fmt::print("{:>10} {:>13} {:>8} {:>14} {:>12}\n", "particles", mpm ? "model" : "search", "threads", "particle-steps/s", "ms/step");
   for (long n : opt.particles)
-    for (const std::string& search : opt.searches)
+    for (const std::string& variant : mpm ? opt.models : opt.searches)
       for (int t : threads) {
         tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(t));
-        Scene scene = parse_scene(dam_break_scene_json(n, search), "bench", ".");
+        Scene scene = parse_scene(mpm ? mpm_cube_scene_json(n, variant) : dam_break_scene_json(n, variant), "bench", ".");
         auto solver = make_solver(scene);
         // Warm up so the column has started to move and caches are hot.
         for (int i = 0; i < 5; ++i) solver->step(solver->max_stable_dt());
@@ -52,7 +80,7 @@ int run_bench(const BenchOptions& opt) {
         for (int i = 0; i < opt.steps; ++i) solver->step(solver->max_stable_dt());
         const double secs = clock.seconds();
         const double rate = double(solver->particles().size()) * opt.steps / secs;
-        fmt::print("{:>10} {:>8} {:>8} {:>14.0f} {:>12.2f}\n", solver->particles().size(), search, t, rate,
+        fmt::print("{:>10} {:>13} {:>8} {:>14.0f} {:>12.2f}\n", solver->particles().size(), variant, t, rate,
                    1e3 * secs / opt.steps);
         if (opt.phases) fmt::print("{}", solver->timers().since(before).report(opt.steps));
         std::fflush(stdout);

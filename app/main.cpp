@@ -101,6 +101,7 @@ int main(int argc, char** argv) {
       "  bakesim run scenes/dam-break.json --out /tmp/db --threads 2 --end-time 0.5\n"
       "  bakesim validate scenes/viscous-funnel.json       check a scene, print what it would simulate\n"
       "  bakesim bench --particles 50000,200000            SPH speed in particle-steps per second\n"
+      "  bakesim bench --solver mpm --threads 1,2          MPM speed (100K and 500K points)\n"
       "  bakesim schema --markdown > docs/scene-reference.md\n"
       "Exit codes: 0 ok, 1 runtime or I/O failure, 2 bad input, 3 simulation failure.");
 
@@ -117,9 +118,11 @@ int main(int argc, char** argv) {
   validate->add_option("scene", validate_path, "Scene file (JSON)")->required();
 
   BenchOptions bench_opt;
-  std::string bench_particles = "50000,200000", bench_threads, bench_search = "grid,kdtree";
-  auto* bench = app.add_subcommand("bench", "Benchmark the SPH dam break (particle-steps per second)");
-  bench->add_option("--particles", bench_particles, "Comma-separated particle counts");
+  std::string bench_particles, bench_threads, bench_search = "grid,kdtree", bench_models = "elastic,viscoplastic";
+  auto* bench = app.add_subcommand("bench", "Benchmark a solver: SPH dam break or MPM cube (particle-steps per second)");
+  bench->add_option("--solver", bench_opt.solver, "sph (dam break) or mpm (cube squashed on the floor)")->check(CLI::IsMember({"sph", "mpm"}));
+  bench->add_option("--model", bench_models, "MPM: comma-separated materials: elastic, viscoplastic");
+  bench->add_option("--particles", bench_particles, "Comma-separated particle counts (default 50000,200000 for SPH, 100000,500000 for MPM)");
   bench->add_option("--threads", bench_threads, "Comma-separated thread counts (default: 1 and all)");
   bench->add_option("--search", bench_search, "Comma-separated neighbour searches: grid, kdtree");
   bench->add_option("--steps", bench_opt.steps, "Timed steps per case")->check(CLI::Range(1, 100000));
@@ -139,6 +142,7 @@ int main(int argc, char** argv) {
     if (*run) return command_run(run_args);
     if (*validate) return command_validate(validate_path);
     if (*bench) {
+      if (bench_particles.empty()) bench_particles = bench_opt.solver == "mpm" ? "100000,500000" : "50000,200000";
       bench_opt.particles = parse_counts(bench_particles);
       if (!bench_threads.empty())
         for (long t : parse_counts(bench_threads)) bench_opt.threads.push_back(int(t));
@@ -146,6 +150,9 @@ int main(int argc, char** argv) {
       std::stringstream ss(bench_search);
       std::string item;
       while (std::getline(ss, item, ',')) bench_opt.searches.push_back(item);
+      bench_opt.models.clear();
+      std::stringstream ms(bench_models);
+      while (std::getline(ms, item, ',')) bench_opt.models.push_back(item);
       return run_bench(bench_opt);
     }
     if (*schema) {

@@ -27,25 +27,70 @@ Svd3 jacobi_svd(const Mat3& f) {
 
 }  // namespace
 
+namespace {
+
+// Eigen-decomposition of a symmetric 3×3 matrix A = Q diag(λ) Qᵀ by cyclic
+// Jacobi rotations. MPM deformation gradients are close to rotations, so FᵀF
+// is close to diagonal in a few rotations; Jacobi is also accurate for nearly
+// equal eigenvalues, where closed-form solutions lose the eigenvectors.
+void symmetric_eigen(Mat3 a, Mat3& q, Vec3& lambda) {
+  q.setIdentity();
+  for (int sweep = 0; sweep < 12; ++sweep) {
+    const Real off = a(0, 1) * a(0, 1) + a(0, 2) * a(0, 2) + a(1, 2) * a(1, 2);
+    const Real diag = a(0, 0) * a(0, 0) + a(1, 1) * a(1, 1) + a(2, 2) * a(2, 2);
+    if (off <= 1e-30 * diag || off == 0) break;
+    for (int k = 0; k < 3; ++k) {
+      const int p = k == 2 ? 1 : 0, r = k == 0 ? 1 : 2;  // pairs (0,1), (0,2), (1,2)
+      const Real apr = a(p, r);
+      if (apr == 0) continue;
+      const Real theta = (a(r, r) - a(p, p)) / (2 * apr);
+      const Real t = (theta >= 0 ? 1 : -1) / (std::abs(theta) + std::sqrt(theta * theta + 1));
+      const Real c = 1 / std::sqrt(t * t + 1), s = t * c;
+      // A ← Gᵀ A G with G the rotation in the (p, r) plane.
+      for (int i = 0; i < 3; ++i) {
+        const Real aip = a(i, p), air = a(i, r);
+        a(i, p) = c * aip - s * air;
+        a(i, r) = s * aip + c * air;
+      }
+      for (int i = 0; i < 3; ++i) {
+        const Real api = a(p, i), ari = a(r, i);
+        a(p, i) = c * api - s * ari;
+        a(r, i) = s * api + c * ari;
+      }
+      for (int i = 0; i < 3; ++i) {
+        const Real qip = q(i, p), qir = q(i, r);
+        q(i, p) = c * qip - s * qir;
+        q(i, r) = s * qip + c * qir;
+      }
+    }
+  }
+  lambda = Vec3(a(0, 0), a(1, 1), a(2, 2));
+}
+
+}  // namespace
+
 Svd3 svd3(const Mat3& f) {
-  // FᵀF = V Σ² Vᵀ in closed form (eigenvalues ascending), U = F V Σ⁻¹.
-  Eigen::SelfAdjointEigenSolver<Mat3> eig;
-  eig.computeDirect(f.transpose() * f);
-  const Vec3 s2 = eig.eigenvalues();
-  // Well separated, not tiny: the fast path is accurate to round-off.
-  const Real scale = s2[2];
-  if (!(s2[0] > 1e-6 * scale) || s2[1] - s2[0] < 1e-6 * scale || s2[2] - s2[1] < 1e-6 * scale)
-    return jacobi_svd(f);
+  // FᵀF = V Σ² Vᵀ (Jacobi), U = F V Σ⁻¹; σ sorted largest first.
+  Mat3 q;
+  Vec3 s2;
+  symmetric_eigen(f.transpose() * f, q, s2);
+  int order[3] = {0, 1, 2};
+  if (s2[order[0]] < s2[order[1]]) std::swap(order[0], order[1]);
+  if (s2[order[1]] < s2[order[2]]) std::swap(order[1], order[2]);
+  if (s2[order[0]] < s2[order[1]]) std::swap(order[0], order[1]);
+  const Real scale = s2[order[0]];
+  // Tiny singular values lose their relative accuracy when squared.
+  if (!(s2[order[2]] > 1e-8 * scale)) return jacobi_svd(f);
   Svd3 out;
-  // Largest first, as JacobiSVD orders them.
-  out.v.col(0) = eig.eigenvectors().col(2);
-  out.v.col(1) = eig.eigenvectors().col(1);
-  out.v.col(2) = eig.eigenvectors().col(0);
-  out.sigma = Vec3(std::sqrt(s2[2]), std::sqrt(s2[1]), std::sqrt(s2[0]));
+  for (int k = 0; k < 3; ++k) {
+    out.v.col(k) = q.col(order[k]);
+    out.sigma[k] = std::sqrt(s2[order[k]]);
+  }
   if (out.v.determinant() < 0) out.v.col(2) *= -1;
   const Mat3 fv = f * out.v;
   out.u.col(0) = fv.col(0) / out.sigma[0];
-  out.u.col(1) = fv.col(1) / out.sigma[1];
+  Vec3 u1 = fv.col(1) - out.u.col(0).dot(fv.col(1)) * out.u.col(0);  // Gram–Schmidt against round-off
+  out.u.col(1) = u1 / u1.norm();
   // Third column by the cross product keeps U a rotation; its sign gives det F.
   out.u.col(2) = out.u.col(0).cross(out.u.col(1));
   out.sigma[2] = out.u.col(2).dot(fv.col(2));

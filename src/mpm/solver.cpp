@@ -15,46 +15,24 @@ namespace bakesim::mpm {
 
 namespace {
 
-// Quadratic B-spline weights and their derivatives along one axis for a
-// particle at grid coordinate xi (in cells): nodes base, base+1, base+2.
+// Quadratic B-spline weights along one axis for a particle at grid
+// coordinate xi (in cells): nodes base, base+1, base+2 at offsets
+// (x_node − x_p)/Δx = k − frac.
 struct Axis {
   int base;
-  Real w[3], dw[3], offset[3];  // dw in 1/m, offset = (x_node − x_p) / Δx
+  Real frac;
+  Real w[3];
 };
 
-inline Axis axis_weights(Real xi, Real inv_dx) {
+inline Axis axis_weights(Real xi) {
   Axis a;
   a.base = static_cast<int>(std::floor(xi - 0.5));
   const Real f = xi - a.base;
+  a.frac = f;
   a.w[0] = 0.5 * (1.5 - f) * (1.5 - f);
   a.w[1] = 0.75 - (f - 1.0) * (f - 1.0);
   a.w[2] = 0.5 * (f - 0.5) * (f - 0.5);
-  a.dw[0] = (f - 1.5) * inv_dx;
-  a.dw[1] = -2.0 * (f - 1.0) * inv_dx;
-  a.dw[2] = (f - 0.5) * inv_dx;
-  for (int k = 0; k < 3; ++k) a.offset[k] = k - f;
   return a;
-}
-
-// Visits the 27 nodes of a particle's stencil: fn(node index, w_ip,
-// (x_i − x_p)/Δx, ∇w_ip). Shared by P2G and G2P.
-template <class Fn>
-inline void for_each_node(const Axis& ax, const Axis& ay, const Axis& az, int ny, int nz, Fn&& fn) {
-  for (int a = 0; a < 3; ++a)
-    for (int b = 0; b < 3; ++b) {
-      const std::size_t row = (std::size_t(ax.base + a) * ny + (ay.base + b)) * nz + az.base;
-      const Real wab = ax.w[a] * ay.w[b];
-      for (int c = 0; c < 3; ++c)
-        fn(row + c, wab * az.w[c], Vec3(ax.offset[a], ay.offset[b], az.offset[c]),
-           Vec3(ax.dw[a] * ay.w[b] * az.w[c], ax.w[a] * ay.dw[b] * az.w[c], wab * az.dw[c]));
-    }
-}
-
-// Symmetric 3×3 matrices as two attributes: the diagonal and (xy, xz, yz).
-Mat3 symmetric(const Vec3& d, const Vec3& o) {
-  Mat3 m;
-  m << d.x(), o.x(), o.y(), o.x(), d.y(), o.z(), o.y(), o.z(), d.z();
-  return m;
 }
 
 void apply_contact(Vec3& v, const Vec3& n, Contact contact, Real mu) {
@@ -103,8 +81,7 @@ MpmSolver::MpmSolver(Setup setup)
   nz_ = static_cast<int>(std::ceil(ext.z() * inv_dx_)) + 1;
   const std::size_t nodes = std::size_t(nx_) * ny_ * nz_;
   if (nodes > 400'000'000) throw InputError("solver.mpm.cell_size", "the grid over the domain would have more than 4e8 nodes");
-  grid_mass_.assign(nodes, 0.0);
-  grid_mom_.assign(nodes, Vec3::Zero());
+  grid_.assign(nodes, Node{0, {0, 0, 0}});
   bx_ = (nx_ + kBlock - 1) / kBlock;
   by_ = (ny_ + kBlock - 1) / kBlock;
   bz_ = (nz_ + kBlock - 1) / kBlock;
@@ -191,7 +168,7 @@ Real MpmSolver::total_mass() const {
 }
 
 Real MpmSolver::grid_mass() const {
-  return deterministic_sum(grid_mass_.size(), [&](std::size_t k) { return grid_mass_[k]; });
+  return deterministic_sum(grid_.size(), [&](std::size_t k) { return grid_[k].mass; });
 }
 
 // Spec 4.7: Δt ≤ CFL Δx / max|v|, Δt ≤ CFL Δx / c with c = sqrt((λ+2μ)/ρ).
@@ -264,29 +241,55 @@ void MpmSolver::phase_sort() {
 }
 
 // Spec 4.1 and 4.4: m_i = Σ w m_p, (m v)_i = Σ w m_p (v_p + C_p (x_i − x_p))
-// (APIC), and the stress force −Δt Σ V⁰_p τ_p ∇w_ip added to the momentum.
+// (APIC), and the stress force. The force uses the MLS-MPM gradient
+// ∇w_ip ≈ w_ip D⁻¹ (x_i − x_p), D⁻¹ = 4/Δx² for quadratic B-splines, so it
+// folds into the affine term: (m v)_i += w (m_p v_p + A_p (x_i − x_p)) with
+// A_p = m_p C_p − Δt V⁰_p D⁻¹ τ_p (Hu et al. 2018, Eq. 16–17).
 void MpmSolver::phase_p2g(Real dt) {
   ScopedPhase t(timers_, t_p2g_);
-  parallel_for(grid_mass_.size(), [&](std::size_t k) {
-    grid_mass_[k] = 0;
-    grid_mom_[k].setZero();
-  }, 1 << 14);
+  parallel_for(grid_.size(), [&](std::size_t k) { grid_[k] = Node{0, {0, 0, 0}}; }, 1 << 14);
   const Vec3 origin = setup_.domain.min;
+  const std::size_t nz = nz_, syz = std::size_t(ny_) * nz_;
+  const Real d_inv = 4.0 * inv_dx_ * inv_dx_;
   for (const auto& blocks : colour_blocks_) {
     parallel_for(blocks.size(), [&](std::size_t bi) {
       const std::uint32_t b = blocks[bi];
       for (std::uint32_t k = block_start_[b]; k < block_start_[b + 1]; ++k) {
         const std::uint32_t p = order_[k];
         const Vec3 g = (x_[p] - origin) * inv_dx_;
-        const Axis ax = axis_weights(g.x(), inv_dx_), ay = axis_weights(g.y(), inv_dx_), az = axis_weights(g.z(), inv_dx_);
+        const Axis ax = axis_weights(g.x()), ay = axis_weights(g.y()), az = axis_weights(g.z());
         const Real mp = m_[p];
-        const Mat3 c = affine(p) * dx_;  // C (x_i − x_p) = (C Δx) · offset
-        const Mat3 force = -dt * volume0_[p] * symmetric(tau_diag_[p], tau_off_[p]);
-        const Vec3 mv = mp * v_[p];
-        for_each_node(ax, ay, az, ny_, nz_, [&](std::size_t node, Real w, const Vec3& off, const Vec3& grad) {
-          grid_mass_[node] += w * mp;
-          grid_mom_[node] += w * (mv + mp * (c * off)) + force * grad;
-        });
+        // A Δx, so that A (x_i − x_p) = (A Δx) · offset-in-cells.
+        const Real s = -dt * volume0_[p] * d_inv;
+        const Vec3 td = tau_diag_[p], to = tau_off_[p];
+        Real a[3][3];  // a[col][row]
+        const Vec3 cc[3] = {c0_[p], c1_[p], c2_[p]};
+        for (int col = 0; col < 3; ++col)
+          for (int row = 0; row < 3; ++row) a[col][row] = mp * cc[col][row];
+        a[0][0] += s * td.x(), a[1][1] += s * td.y(), a[2][2] += s * td.z();
+        a[1][0] += s * to.x(), a[0][1] += s * to.x();
+        a[2][0] += s * to.y(), a[0][2] += s * to.y();
+        a[2][1] += s * to.z(), a[1][2] += s * to.z();
+        for (int col = 0; col < 3; ++col)
+          for (int row = 0; row < 3; ++row) a[col][row] *= dx_;
+        const Real mv[3] = {mp * v_[p].x(), mp * v_[p].y(), mp * v_[p].z()};
+        for (int i = 0; i < 3; ++i) {
+          const Real ox = i - ax.frac;
+          Real ti[3];
+          for (int r = 0; r < 3; ++r) ti[r] = mv[r] + a[0][r] * ox;
+          for (int j = 0; j < 3; ++j) {
+            const Real oy = j - ay.frac, wij = ax.w[i] * ay.w[j];
+            Real tj[3];
+            for (int r = 0; r < 3; ++r) tj[r] = ti[r] + a[1][r] * oy;
+            Node* row = &grid_[std::size_t(ax.base + i) * syz + std::size_t(ay.base + j) * nz + az.base];
+            for (int kk = 0; kk < 3; ++kk) {
+              const Real oz = kk - az.frac, w = wij * az.w[kk];
+              Node& node = row[kk];
+              node.mass += w * mp;
+              for (int r = 0; r < 3; ++r) node.mv[r] += w * (tj[r] + a[2][r] * oz);
+            }
+          }
+        }
       }
     }, 1);
   }
@@ -300,42 +303,70 @@ void MpmSolver::phase_grid(Real dt) {
   // The domain walls sit two cells inside the grid so no stencil leaves it.
   const ColliderGeometry walls = InsideBoxCollider{{setup_.domain.min + Vec3::Constant(2 * dx_), setup_.domain.max - Vec3::Constant(2 * dx_)}};
   const std::size_t nz = nz_, syz = std::size_t(ny_) * nz_;
-  parallel_for(grid_mass_.size(), [&](std::size_t k) {
-    const Real m = grid_mass_[k];
-    if (m <= 0) return;
-    Vec3 v = grid_mom_[k] / m + dt * g;
+  parallel_for(grid_.size(), [&](std::size_t k) {
+    Node& node = grid_[k];
+    if (node.mass <= 0) return;
+    Vec3 v = Vec3(node.mv[0], node.mv[1], node.mv[2]) / node.mass + dt * g;
     const Vec3 xi = origin + dx_ * Vec3(Real(k / syz), Real((k / nz) % ny_), Real(k % nz));
     for (const GridCollider& c : setup_.colliders)
       for_each_wall(c.collider.geometry, xi, 0.0, [&](const WallContact& w) { apply_contact(v, w.normal, c.contact, c.friction); });
     for_each_wall(walls, xi, 0.0, [&](const WallContact& w) { apply_contact(v, w.normal, Contact::separate, setup_.domain_friction); });
-    grid_mom_[k] = v;
+    node.mv[0] = v.x(), node.mv[1] = v.y(), node.mv[2] = v.z();
   }, 4096);
 }
 
-// Spec 4.5: v_p = Σ w v_i, C_p = Σ w v_i (x_i − x_p)ᵀ D⁻¹ (D = Δx²/4 for
-// quadratic B-splines), trial F = (I + Δt Σ v_i ∇w_ipᵀ) F, x += Δt v_p.
+// Spec 4.5: v_p = Σ w v_i, C_p = D⁻¹ Σ w v_i (x_i − x_p)ᵀ (D = Δx²/4 for
+// quadratic B-splines); C_p is also the MLS velocity gradient, so the trial
+// F = (I + Δt C_p) F; x += Δt v_p.
 void MpmSolver::phase_g2p(Real dt) {
   ScopedPhase t(timers_, t_g2p_);
   const Vec3 origin = setup_.domain.min;
+  const std::size_t nz = nz_, syz = std::size_t(ny_) * nz_;
   const Real d_inv = 4.0 * inv_dx_;  // D⁻¹ (x_i − x_p) with offsets in cells: 4/Δx² · Δx
   parallel_for(x_.size(), [&](std::size_t p) {
     const Vec3 g = (x_[p] - origin) * inv_dx_;
-    const Axis ax = axis_weights(g.x(), inv_dx_), ay = axis_weights(g.y(), inv_dx_), az = axis_weights(g.z(), inv_dx_);
-    Vec3 v = Vec3::Zero();
-    Mat3 b = Mat3::Zero();
-    Mat3 grad_v = Mat3::Zero();
-    for_each_node(ax, ay, az, ny_, nz_, [&](std::size_t node, Real w, const Vec3& off, const Vec3& grad) {
-      const Vec3& vi = grid_mom_[node];
-      v += w * vi;
-      b += (w * vi) * off.transpose();
-      grad_v += vi * grad.transpose();
-    });
-    v_[p] = v;
-    set_affine(p, b * d_inv);
-    const Mat3 df = Mat3::Identity() + dt * grad_v;
+    const Axis ax = axis_weights(g.x()), ay = axis_weights(g.y()), az = axis_weights(g.z());
+    Real v[3] = {0, 0, 0};
+    Real b[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};  // b[col][row] = Σ w v_row offset_col
+    for (int i = 0; i < 3; ++i) {
+      Real vi[3] = {0, 0, 0}, bi[2][3] = {{0, 0, 0}, {0, 0, 0}};  // Σ over j, k at this i
+      for (int j = 0; j < 3; ++j) {
+        const Real oy = j - ay.frac;
+        const Node* row = &grid_[std::size_t(ax.base + i) * syz + std::size_t(ay.base + j) * nz + az.base];
+        Real vj[3] = {0, 0, 0}, bz[3] = {0, 0, 0};
+        for (int kk = 0; kk < 3; ++kk) {
+          const Real w = az.w[kk], oz = kk - az.frac;
+          for (int r = 0; r < 3; ++r) {
+            const Real wv = w * row[kk].mv[r];
+            vj[r] += wv;
+            bz[r] += wv * oz;
+          }
+        }
+        const Real wy = ay.w[j];
+        for (int r = 0; r < 3; ++r) {
+          vi[r] += wy * vj[r];
+          bi[0][r] += wy * vj[r] * oy;
+          bi[1][r] += wy * bz[r];
+        }
+      }
+      const Real wx = ax.w[i], ox = i - ax.frac;
+      for (int r = 0; r < 3; ++r) {
+        v[r] += wx * vi[r];
+        b[0][r] += wx * vi[r] * ox;
+        b[1][r] += wx * bi[0][r];
+        b[2][r] += wx * bi[1][r];
+      }
+    }
+    const Vec3 vp(v[0], v[1], v[2]);
+    Mat3 c;
+    for (int col = 0; col < 3; ++col)
+      for (int r = 0; r < 3; ++r) c(r, col) = d_inv * b[col][r];
+    v_[p] = vp;
+    c0_[p] = c.col(0), c1_[p] = c.col(1), c2_[p] = c.col(2);
+    const Mat3 df = Mat3::Identity() + dt * c;
     set_deformation_gradient(p, df * deformation_gradient(p));
     j_[p] *= df.determinant();
-    x_[p] += dt * v;
+    x_[p] += dt * vp;
   }, 1024);
 }
 

@@ -1,7 +1,9 @@
 #pragma once
 // Material Point Method (spec mpm-baking.md 4.1, 4.4, 4.5, 4.7): quadratic
-// B-spline weights, APIC transfers (Jiang et al. 2015), explicit grid update,
-// finite-strain elastoplasticity on the particles, colliders on the grid.
+// B-spline weights, APIC transfers (Jiang et al. 2015) with the moving-least-
+// squares force and velocity gradient of MLS-MPM (Hu et al. 2018; departure
+// noted in docs/physics.md), explicit grid update, finite-strain
+// elastoplasticity on the particles, colliders on the grid.
 #include <string>
 #include <vector>
 
@@ -119,9 +121,13 @@ class MpmSolver final : public Solver {
   // Dense node grid over the domain (nodes at domain.min + k Δx).
   Real dx_ = 0, inv_dx_ = 0;
   int nx_ = 0, ny_ = 0, nz_ = 0;
-  std::vector<Real> grid_mass_;
-  std::vector<Vec3> grid_mom_;  // momentum after P2G, velocity after the grid update
-  std::vector<std::uint8_t> grid_touched_;
+  // One node: mass and momentum after P2G; velocity replaces the momentum in
+  // the grid update. Four doubles, so one node is half a cache line.
+  struct Node {
+    Real mass;
+    Real mv[3];
+  };
+  std::vector<Node> grid_;
   // Blocks of kBlock³ cells, coloured 2×2×2 so same-coloured blocks never
   // share a node: P2G runs each colour's blocks in parallel without races.
   static constexpr int kBlock = 4;
