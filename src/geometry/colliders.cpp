@@ -1,6 +1,12 @@
 #include "geometry/colliders.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <map>
+
+#include <Eigen/Geometry>
+
+#include "core/parallel.hpp"
 
 namespace bakesim {
 
@@ -31,6 +37,167 @@ WallContact box_contact(const Aabb& box, const Vec3& p) {
     if (hi < best) { best = hi; n = Vec3::Unit(k); }
   }
   return {-best, n};
+}
+
+WallContact ring_contact(const Vec3& base, const Vec3& axis, Real r_in, Real r_out, Real h0, Real h1, const Vec3& p) {
+  const Vec3 d = p - base;
+  const Real h = d.dot(axis);
+  const Vec3 radial_vec = d - h * axis;
+  const Real rho = radial_vec.norm();
+  Vec3 radial;
+  if (rho > 1e-12 * (r_out + 1e-30)) {
+    radial = radial_vec / rho;
+  } else {  // on the axis: any direction perpendicular to it
+    radial = axis.unitOrthogonal();
+  }
+  // Distances to the radial and axial extents (positive outside) and the
+  // directions out of the solid across each.
+  Real dr;
+  Vec3 nr;
+  if (r_in <= 0) {
+    dr = rho - r_out;
+    nr = radial;
+  } else {
+    const Real mid = 0.5 * (r_in + r_out);
+    dr = std::abs(rho - mid) - 0.5 * (r_out - r_in);
+    nr = rho >= mid ? radial : -radial;
+  }
+  const Real hm = 0.5 * (h0 + h1);
+  const Real dh = std::abs(h - hm) - 0.5 * (h1 - h0);
+  const Vec3 nh = h >= hm ? axis : Vec3(-axis);
+  if (dr <= 0 && dh <= 0) return dr > dh ? WallContact{dr, nr} : WallContact{dh, nh};
+  const Real a = std::max(dr, Real(0)), b = std::max(dh, Real(0));
+  const Real dist = std::sqrt(a * a + b * b);
+  return {dist, (a * nr + b * nh) / dist};
+}
+
+WallContact signed_distance(const ColliderGeometry& g, const Vec3& p) {
+  if (const auto* m = std::get_if<MeshCollider>(&g)) {
+    if (!m->sdf) return {std::numeric_limits<Real>::infinity(), Vec3::UnitY()};
+    return m->sdf->sample(p);
+  }
+  if (const auto* inside = std::get_if<InsideBoxCollider>(&g)) {
+    // Outside the box is solid: the nearest face, also from outside.
+    WallContact best{std::numeric_limits<Real>::infinity(), Vec3::UnitY()};
+    for (int k = 0; k < 3; ++k) {
+      const Real lo = p[k] - inside->box.min[k], hi = inside->box.max[k] - p[k];
+      if (lo < best.distance) best = {lo, Vec3::Unit(k)};
+      if (hi < best.distance) best = {hi, -Vec3::Unit(k)};
+    }
+    return best;
+  }
+  WallContact best{std::numeric_limits<Real>::infinity(), Vec3::UnitY()};
+  for_each_wall(g, p, std::numeric_limits<Real>::infinity(), [&](const WallContact& c) {
+    if (c.distance < best.distance) best = c;
+  });
+  return best;
+}
+
+namespace {
+
+// Which feature of triangle (a, b, c) the point q (on the triangle) lies on:
+// 0–2 a vertex, 3–5 the edge opposite vertex k−3 ... encoded as below, 6 the face.
+int triangle_feature(const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c) {
+  // Barycentric coordinates of q.
+  const Vec3 v0 = b - a, v1 = c - a, v2 = q - a;
+  const Real d00 = v0.dot(v0), d01 = v0.dot(v1), d11 = v1.dot(v1), d20 = v2.dot(v0), d21 = v2.dot(v1);
+  const Real den = d00 * d11 - d01 * d01;
+  if (!(std::abs(den) > 0)) return 0;
+  const Real v = (d11 * d20 - d01 * d21) / den, w = (d00 * d21 - d01 * d20) / den, u = 1 - v - w;
+  const Real eps = 1e-7;
+  const bool zu = u < eps, zv = v < eps, zw = w < eps;
+  if (zv && zw) return 0;  // vertex a
+  if (zu && zw) return 1;  // vertex b
+  if (zu && zv) return 2;  // vertex c
+  if (zw) return 3;        // edge a–b
+  if (zu) return 4;        // edge b–c
+  if (zv) return 5;        // edge c–a
+  return 6;
+}
+
+}  // namespace
+
+SignedDistanceGrid SignedDistanceGrid::from_mesh(const TriangleMesh& mesh, const TriangleGrid& index, Real cell, Real band) {
+  // Pseudo-normals: faces, edges (sum of the adjacent face normals), vertices
+  // (face normals weighted by the incident angle).
+  const std::size_t nt = mesh.triangles.size();
+  std::vector<Vec3> face(nt), vertex(mesh.vertices.size(), Vec3::Zero());
+  std::map<std::pair<int, int>, Vec3> edge;
+  for (std::size_t t = 0; t < nt; ++t) {
+    const auto& tri = mesh.triangles[t];
+    face[t] = mesh.normal(t);
+    for (int k = 0; k < 3; ++k) {
+      const int i = tri[k], j = tri[(k + 1) % 3], l = tri[(k + 2) % 3];
+      const Vec3 e1 = (mesh.vertices[j] - mesh.vertices[i]).normalized(), e2 = (mesh.vertices[l] - mesh.vertices[i]).normalized();
+      vertex[i] += std::acos(std::clamp(e1.dot(e2), Real(-1), Real(1))) * face[t];
+      auto key = std::minmax(i, j);
+      auto [it, fresh] = edge.emplace(std::make_pair(key.first, key.second), face[t]);
+      if (!fresh) it->second += face[t];
+    }
+  }
+  SignedDistanceGrid g;
+  g.cell = cell;
+  g.band = band;
+  const Aabb b = mesh.bounds();
+  g.box = {b.min - Vec3::Constant(band + cell), b.max + Vec3::Constant(band + cell)};
+  g.nx = static_cast<int>(std::ceil(g.box.extent().x() / cell)) + 1;
+  g.ny = static_cast<int>(std::ceil(g.box.extent().y() / cell)) + 1;
+  g.nz = static_cast<int>(std::ceil(g.box.extent().z() / cell)) + 1;
+  g.phi.assign(std::size_t(g.nx) * g.ny * g.nz, static_cast<float>(band));
+  parallel_for(g.phi.size(), [&](std::size_t k) {
+    const std::size_t ix = k % g.nx, iy = (k / g.nx) % g.ny, iz = k / (std::size_t(g.nx) * g.ny);
+    const Vec3 p = g.box.min + cell * Vec3(Real(ix), Real(iy), Real(iz));
+    Real best = band * band;
+    Vec3 best_q = p, best_n = Vec3::Zero();
+    index.for_each_candidate({p - Vec3::Constant(band), p + Vec3::Constant(band)}, [&](std::uint32_t t) {
+      const auto& tri = mesh.triangles[t];
+      const Vec3 &a = mesh.vertices[tri[0]], &bb = mesh.vertices[tri[1]], &c = mesh.vertices[tri[2]];
+      const Vec3 q = closest_point_on_triangle(p, a, bb, c);
+      const Real d2 = (p - q).squaredNorm();
+      if (d2 >= best) return;
+      best = d2;
+      best_q = q;
+      const int f = triangle_feature(q, a, bb, c);
+      if (f < 3) {
+        best_n = vertex[tri[f]];
+      } else if (f < 6) {
+        const int i = tri[f - 3], j = tri[(f - 2) % 3];
+        best_n = edge.at(std::make_pair(std::min(i, j), std::max(i, j)));
+      } else {
+        best_n = face[t];
+      }
+    });
+    if (best >= band * band) return;
+    const Real d = std::sqrt(best);
+    g.phi[k] = static_cast<float>((p - best_q).dot(best_n) < 0 ? -d : d);
+  }, 256);
+  return g;
+}
+
+WallContact SignedDistanceGrid::sample(const Vec3& p) const {
+  const Vec3 u = (p - box.min) / cell;
+  const int i = static_cast<int>(std::floor(u.x())), j = static_cast<int>(std::floor(u.y())), k = static_cast<int>(std::floor(u.z()));
+  if (i < 0 || j < 0 || k < 0 || i + 1 >= nx || j + 1 >= ny || k + 1 >= nz) return {band, Vec3::UnitY()};
+  const Real fx = u.x() - i, fy = u.y() - j, fz = u.z() - k;
+  auto at = [&](int a, int b, int c) -> Real { return phi[std::size_t(i + a) + std::size_t(nx) * (std::size_t(j + b) + std::size_t(ny) * (k + c))]; };
+  Real value = 0;
+  Vec3 grad = Vec3::Zero();
+  for (int c = 0; c < 2; ++c)
+    for (int b = 0; b < 2; ++b)
+      for (int a = 0; a < 2; ++a) {
+        const Real wx = a ? fx : 1 - fx, wy = b ? fy : 1 - fy, wz = c ? fz : 1 - fz;
+        const Real v = at(a, b, c);
+        value += wx * wy * wz * v;
+        grad += v * Vec3((a ? 1 : -1) * wy * wz, wx * (b ? 1 : -1) * wz, wx * wy * (c ? 1 : -1));
+      }
+  const Real n = grad.norm();
+  return {value, n > 0 ? Vec3(grad / n) : Vec3::UnitY()};
+}
+
+MeshCollider MeshCollider::with_signed_distance(Real cell, Real band) const {
+  MeshCollider m = *this;
+  m.sdf = std::make_shared<const SignedDistanceGrid>(SignedDistanceGrid::from_mesh(*mesh, *grid, cell, band));
+  return m;
 }
 
 MeshCollider MeshCollider::build(TriangleMesh mesh, Real cell_size) {

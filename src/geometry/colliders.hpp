@@ -4,6 +4,7 @@
 // walls) answer "which wall faces are near this point" with a distance and the
 // face normal pointing into free space; mesh colliders answer segment queries
 // against facing triangles (thesis 3.1.9).
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -38,20 +39,56 @@ struct ContainerCollider {
   std::vector<Aabb> slabs() const;
 };
 
+// Solid capped cylinder (a grip, a rolling pin, a post).
+struct CylinderCollider {
+  Vec3 center;  // middle of the axis
+  Vec3 axis;    // unit
+  Real radius, height;
+};
+
+// Open-top cylindrical container (ramekin, cake pan, pitcher): a floor disc
+// below `base` and a wall ring of the given thickness around the inner space
+// of `radius` × `height`; with tube_radius > 0 a solid central tube of the same
+// height (tube pan).
+struct CupCollider {
+  Vec3 base;  // centre of the inner floor
+  Vec3 axis;  // unit, from the floor towards the open top
+  Real radius, height, wall_thickness;
+  Real tube_radius = 0;
+};
+
 // The inside of a box is free; everything outside is solid (domain walls).
 struct InsideBoxCollider {
   Aabb box;
+};
+
+// Signed distance of a triangle mesh sampled on a regular grid (negative
+// inside), exact within `band` of the surface and +band beyond it; sampled
+// trilinearly. The sign comes from angle-weighted pseudo-normals (Bærentzen
+// and Aanæs 2005), right for closed meshes; for an open mesh the side its
+// triangles face is outside.
+struct SignedDistanceGrid {
+  Aabb box;
+  Real cell = 0, band = 0;
+  int nx = 0, ny = 0, nz = 0;
+  std::vector<float> phi;  // x fastest
+  static SignedDistanceGrid from_mesh(const TriangleMesh& mesh, const TriangleGrid& index, Real cell, Real band);
+  // Signed distance and unit gradient (outward normal) at p.
+  WallContact sample(const Vec3& p) const;
 };
 
 struct MeshCollider {
   std::shared_ptr<const TriangleMesh> mesh;
   std::shared_ptr<const TriangleGrid> grid;
   std::shared_ptr<const std::vector<Vec3>> normals;  // per triangle, unit
+  std::shared_ptr<const SignedDistanceGrid> sdf;     // built for grid-based (MPM) contact
   static MeshCollider build(TriangleMesh mesh, Real cell_size);
+  // The same collider with a signed distance grid of spacing `cell`.
+  MeshCollider with_signed_distance(Real cell, Real band) const;
 };
 
-using ColliderGeometry =
-    std::variant<PlaneCollider, BoxCollider, ContainerCollider, InsideBoxCollider, MeshCollider>;
+using ColliderGeometry = std::variant<PlaneCollider, BoxCollider, ContainerCollider, CylinderCollider, CupCollider,
+                                      InsideBoxCollider, MeshCollider>;
 
 struct Collider {
   std::string name;
@@ -66,6 +103,14 @@ struct Collider {
 
 // Contact with a solid axis-aligned box from point p (outside or inside).
 WallContact box_contact(const Aabb& box, const Vec3& p);
+// Contact with a solid ring r_in ≤ ρ ≤ r_out (r_in = 0: a solid cylinder)
+// spanning h0 ≤ (p − base)·axis ≤ h1 (exact signed distance).
+WallContact ring_contact(const Vec3& base, const Vec3& axis, Real r_in, Real r_out, Real h0, Real h1, const Vec3& p);
+
+// Signed distance to the nearest solid part of a collider and the outward
+// normal there (for grid-based contact). Mesh colliders need their signed
+// distance grid; without one they report +infinity.
+WallContact signed_distance(const ColliderGeometry& g, const Vec3& p);
 
 // Calls fn(WallContact) for each analytic wall face within `range` of p.
 // Mesh colliders report nothing here.
@@ -97,6 +142,19 @@ void for_each_wall(const ColliderGeometry& g, const Vec3& p, Real range, Fn&& fn
       const WallContact c = box_contact(s, p);
       if (c.distance < range) fn(c);
     }
+  } else if (const auto* cyl = std::get_if<CylinderCollider>(&g)) {
+    const WallContact c = ring_contact(cyl->center - 0.5 * cyl->height * cyl->axis, cyl->axis, 0, cyl->radius, 0,
+                                       cyl->height, p);
+    if (c.distance < range) fn(c);
+  } else if (const auto* cup = std::get_if<CupCollider>(&g)) {
+    const Real t = cup->wall_thickness;
+    const WallContact parts[3] = {
+        ring_contact(cup->base, cup->axis, 0, cup->radius + t, -t, 0, p),                        // floor
+        ring_contact(cup->base, cup->axis, cup->radius, cup->radius + t, 0, cup->height, p),     // wall
+        cup->tube_radius > 0 ? ring_contact(cup->base, cup->axis, 0, cup->tube_radius, 0, cup->height, p)
+                             : WallContact{std::numeric_limits<Real>::infinity(), cup->axis}};  // tube
+    for (const WallContact& c : parts)
+      if (c.distance < range) fn(c);
   } else if (const auto* inside = std::get_if<InsideBoxCollider>(&g)) {
     const Aabb& b = inside->box;
     for (int k = 0; k < 3; ++k) {

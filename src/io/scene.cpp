@@ -95,7 +95,31 @@ ColliderGeometry build_collider_geometry(const Ctx& c, const std::string& path, 
     require_box(c, path, vec3(s["min"]), vec3(s["max"]));
     return ContainerCollider{{vec3(s["min"]), vec3(s["max"])}, s["wall_thickness"].get<double>()};
   }
+  if (type == "cylinder")
+    return CylinderCollider{vec3(s["center"]), unit_vector(c, path + ".axis", s["axis"]), s["radius"].get<double>(),
+                            s["height"].get<double>()};
+  if (type == "cup") {
+    const Real radius = s["radius"].get<double>(), tube = s["tube_radius"].get<double>();
+    if (tube >= radius) c.fail(path + ".tube_radius", "must be smaller than the radius");
+    return CupCollider{vec3(s["base"]), unit_vector(c, path + ".axis", s["axis"]), radius, s["height"].get<double>(),
+                       s["wall_thickness"].get<double>(), tube};
+  }
   return MeshCollider::build(load_transformed_mesh(c, path, s), cell);
+}
+
+RigidMotion build_motion(const Ctx& c, const std::string& path, const json& m) {
+  std::vector<RigidKeyframe> keys;
+  const json& kj = m["keyframes"];
+  for (std::size_t i = 0; i < kj.size(); ++i) {
+    RigidKeyframe k;
+    k.time = kj[i]["time"].get<double>();
+    if (!keys.empty() && !(k.time > keys.back().time))
+      c.fail(fmt::format("{}.keyframes[{}].time", path, i), "keyframe times must increase strictly");
+    k.translation = vec3(kj[i]["translation"]);
+    k.rotation = rotation_from_degrees(vec3(kj[i]["rotation_deg"]));
+    keys.push_back(k);
+  }
+  return RigidMotion(vec3(m["pivot"]), std::move(keys));
 }
 
 void check_unique_names(const Ctx& c, const json& list, const std::string& key) {
@@ -223,8 +247,10 @@ mpm::Setup build_mpm_setup(const Ctx& c, const json& doc, const sph::Setup& sph)
     mpm::GridCollider g;
     g.collider.name = cj["name"].get<std::string>();
     g.collider.geometry = build_collider_geometry(c, path + ".shape", cj["shape"], st.cell_size);
-    if (std::holds_alternative<MeshCollider>(g.collider.geometry))
-      c.fail(path + ".shape", "mesh colliders are not available for the MPM solver yet (planes, boxes and containers are)");
+    // Meshes act through a signed distance grid at half the MPM cell size.
+    if (const auto* mesh = std::get_if<MeshCollider>(&g.collider.geometry))
+      g.collider.geometry = mesh->with_signed_distance(0.5 * st.cell_size, 3 * st.cell_size);
+    if (cj.contains("motion")) g.motion = build_motion(c, path + ".motion", cj["motion"]);
     const std::string contact = cj["contact"].get<std::string>();
     g.contact = contact == "sticky" ? mpm::Contact::sticky : contact == "slip" ? mpm::Contact::slip : mpm::Contact::separate;
     g.friction = cj["friction"].get<double>();
@@ -412,6 +438,8 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::s
     col.geometry = build_collider_geometry(c, path + ".shape", cj["shape"], h);
     col.friction = cj["friction"].get<double>();
     col.damping = cj["damping"].get<double>();
+    if (cj.contains("motion") && doc["solver"]["type"].get<std::string>() == "sph")
+      c.fail(path + ".motion", "moving colliders are available for the MPM solver only");
     if (!cj["temperature"].is_null())
       col.temperature = build_schedule(c, fmt::format("colliders[{}].temperature", i), cj["temperature"]);
     col.heat_transfer_coefficient = cj["heat_transfer_coefficient"].get<double>();

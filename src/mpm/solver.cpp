@@ -303,13 +303,25 @@ void MpmSolver::phase_grid(Real dt) {
   // The domain walls sit two cells inside the grid so no stencil leaves it.
   const ColliderGeometry walls = InsideBoxCollider{{setup_.domain.min + Vec3::Constant(2 * dx_), setup_.domain.max - Vec3::Constant(2 * dx_)}};
   const std::size_t nz = nz_, syz = std::size_t(ny_) * nz_;
+  // Collider poses at the end of the step, where the nodes' new velocities take the material.
+  std::vector<RigidPose> poses;
+  poses.reserve(setup_.colliders.size());
+  for (const GridCollider& c : setup_.colliders) poses.push_back(c.motion.at(time_ + dt));
   parallel_for(grid_.size(), [&](std::size_t k) {
     Node& node = grid_[k];
     if (node.mass <= 0) return;
     Vec3 v = Vec3(node.mv[0], node.mv[1], node.mv[2]) / node.mass + dt * g;
     const Vec3 xi = origin + dx_ * Vec3(Real(k / syz), Real((k / nz) % ny_), Real(k % nz));
-    for (const GridCollider& c : setup_.colliders)
-      for_each_wall(c.collider.geometry, xi, 0.0, [&](const WallContact& w) { apply_contact(v, w.normal, c.contact, c.friction); });
+    for (std::size_t ci = 0; ci < setup_.colliders.size(); ++ci) {
+      const GridCollider& c = setup_.colliders[ci];
+      const RigidPose& pose = poses[ci];
+      const WallContact w = signed_distance(c.collider.geometry, pose.to_rest(xi));
+      if (w.distance > 0) continue;
+      const Vec3 vc = pose.velocity_at(xi);
+      Vec3 rel = v - vc;
+      apply_contact(rel, pose.rotation * w.normal, c.contact, c.friction);
+      v = rel + vc;
+    }
     for_each_wall(walls, xi, 0.0, [&](const WallContact& w) { apply_contact(v, w.normal, Contact::separate, setup_.domain_friction); });
     node.mv[0] = v.x(), node.mv[1] = v.y(), node.mv[2] = v.z();
   }, 4096);

@@ -11,6 +11,7 @@
 #include "core/solver.hpp"
 #include "core/timers.hpp"
 #include "geometry/colliders.hpp"
+#include "geometry/motion.hpp"
 #include "geometry/shapes.hpp"
 #include "mpm/constitutive.hpp"
 
@@ -35,10 +36,13 @@ struct Body {
 
 enum class Contact { sticky, slip, separate };
 
+// A collider acts on the grid nodes inside it (signed distance ≤ 0) through
+// their velocity relative to its own (scripted rigid motion).
 struct GridCollider {
-  Collider collider;
+  Collider collider;  // geometry in its rest pose; mesh colliders need their signed distance grid
   Contact contact = Contact::separate;
   Real friction = 0.0;  // Coulomb μ
+  RigidMotion motion;
 };
 
 struct Settings {

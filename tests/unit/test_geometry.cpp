@@ -8,6 +8,7 @@
 #include "core/errors.hpp"
 #include "geometry/colliders.hpp"
 #include "geometry/mesh_io.hpp"
+#include "geometry/motion.hpp"
 #include "geometry/shapes.hpp"
 
 using namespace bakesim;
@@ -168,4 +169,93 @@ TEST(Colliders, MeshSegmentOnlyHitsFacingTriangles) {
   EXPECT_EQ(mesh_segment_hits(mc, Vec3(0.1, 0.05, 0.1), Vec3(0.1, 0.02, 0.1), 0.001).hits, 0);
   // Reach of the particle radius: stops a particle about to touch the plane.
   EXPECT_EQ(mesh_segment_hits(mc, Vec3(0.3, 0.05, 0.1), Vec3(0.3, 0.002, 0.1), 0.004).hits, 1);
+}
+
+TEST(Colliders, CylinderSignedDistanceIsExact) {
+  const ColliderGeometry g = CylinderCollider{Vec3(0, 1, 0), Vec3::UnitY(), 0.5, 2.0};  // y in [0, 2]
+  auto d = [&](const Vec3& p) { return signed_distance(g, p); };
+  EXPECT_NEAR(d(Vec3(0, 1, 0)).distance, -0.5, 1e-12);  // centre: nearest is the side
+  EXPECT_NEAR(d(Vec3(1.5, 1, 0)).distance, 1.0, 1e-12);
+  EXPECT_NEAR(d(Vec3(1.5, 1, 0)).normal.x(), 1.0, 1e-12);
+  EXPECT_NEAR(d(Vec3(0.1, 2.3, 0)).distance, 0.3, 1e-12);  // above the cap
+  EXPECT_NEAR(d(Vec3(0.1, 2.3, 0)).normal.y(), 1.0, 1e-12);
+  EXPECT_NEAR(d(Vec3(0, -0.2, 0.1)).normal.y(), -1.0, 1e-12);  // below
+  // Beyond the rim: distance to the circular edge.
+  EXPECT_NEAR(d(Vec3(0, 2.4, 0.8)).distance, 0.5, 1e-12);
+  EXPECT_NEAR(d(Vec3(0, 2.4, 0.8)).normal.dot(Vec3(0, 0.8, 0.6)), 1.0, 1e-12);
+}
+
+TEST(Colliders, CupHasFloorWallAndOptionalTubeAndAnOpenTop) {
+  const CupCollider cup{Vec3(0, 0, 0), Vec3::UnitY(), 0.1, 0.05, 0.01, 0.02};
+  const ColliderGeometry g = cup;
+  auto d = [&](const Vec3& p) { return signed_distance(g, p); };
+  EXPECT_NEAR(d(Vec3(0.05, 0.02, 0)).distance, 0.02, 1e-12);  // above the floor, nearest the floor
+  EXPECT_NEAR(d(Vec3(0.05, 0.02, 0)).normal.y(), 1.0, 1e-12);
+  EXPECT_NEAR(d(Vec3(0.095, 0.03, 0)).distance, 0.005, 1e-12);  // near the wall, inside the cup
+  EXPECT_NEAR(d(Vec3(0.095, 0.03, 0)).normal.x(), -1.0, 1e-12);
+  EXPECT_NEAR(d(Vec3(0.105, 0.03, 0)).distance, -0.005, 1e-12);  // in the wall
+  EXPECT_NEAR(d(Vec3(0.025, 0.03, 0)).distance, 0.005, 1e-12);   // beside the tube
+  EXPECT_NEAR(d(Vec3(0.025, 0.03, 0)).normal.x(), 1.0, 1e-12);
+  EXPECT_GT(d(Vec3(0.05, 0.2, 0)).distance, 0.1);  // open top: far above, nothing near
+  // The same walls through for_each_wall (the SPH view of it).
+  int near = 0;
+  for_each_wall(g, Vec3(0.095, 0.003, 0), 0.006, [&](const WallContact&) { ++near; });
+  EXPECT_EQ(near, 2);  // the floor and the wall at the inner corner
+}
+
+TEST(Colliders, MeshSignedDistanceGridMatchesTheBox) {
+  TriangleMesh m = load_mesh(write_cube_obj().string());
+  m.apply(0.1, Vec3(0, 0, 0), Vec3(0, 0, 0));  // [0, 0.1]^3
+  const MeshCollider mc = MeshCollider::build(m, 0.02).with_signed_distance(0.005, 0.03);
+  const Aabb box{Vec3::Zero(), Vec3::Constant(0.1)};
+  Real worst = 0;
+  int count = 0;
+  for (Real x = -0.02; x <= 0.12; x += 0.0073)
+    for (Real y = -0.02; y <= 0.12; y += 0.0091)
+      for (Real z = 0.011; z <= 0.09; z += 0.017) {
+        const Vec3 p(x, y, z);
+        const WallContact exact = box_contact(box, p);
+        if (std::abs(exact.distance) > 0.02) continue;  // inside the exact band
+        const WallContact c = mc.sdf->sample(p);
+        worst = std::max(worst, std::abs(c.distance - exact.distance));
+        ++count;
+        if (std::abs(exact.distance) > 0.006) {
+          EXPECT_EQ(c.distance < 0, exact.distance < 0) << p.transpose();
+        }
+      }
+  EXPECT_GT(count, 300);
+  // Trilinear sampling of an exact distance: errors of a fraction of the cell
+  // near the edges, where the distance bends.
+  EXPECT_LT(worst, 0.003);
+  // Through the variant: far from the mesh it reports free space.
+  EXPECT_GT(signed_distance(ColliderGeometry(mc), Vec3(0.5, 0.5, 0.5)).distance, 0);
+  EXPECT_NEAR(signed_distance(ColliderGeometry(mc), Vec3(0.05, 0.11, 0.05)).normal.y(), 1.0, 1e-6);
+}
+
+TEST(Motion, KeyframesInterpolateAndVelocityMatchesTheMotion) {
+  RigidKeyframe a, b, c;
+  a.time = 0;
+  b.time = 1;
+  b.translation = Vec3(0.2, 0, 0);
+  b.rotation = rotation_from_degrees(Vec3(0, 90, 0));
+  c.time = 2;
+  c.translation = Vec3(0.2, 0.1, 0);
+  c.rotation = b.rotation;
+  const RigidMotion motion(Vec3(1, 0, 0), {a, b, c});
+  const RigidPose mid = motion.at(0.5);
+  EXPECT_NEAR(mid.translation.x(), 0.1, 1e-12);
+  EXPECT_TRUE(mid.rotation.isApprox(rotation_from_degrees(Vec3(0, 45, 0)), 1e-12));
+  EXPECT_NEAR(mid.angular_velocity.y(), M_PI / 2, 1e-12);
+  // A point of the body: its velocity is the time derivative of its position.
+  const Vec3 rest(1.3, 0.2, -0.4);
+  const Real h = 1e-6;
+  for (Real t : {0.3, 1.5}) {
+    const Vec3 fd = (motion.at(t + h).to_world(rest) - motion.at(t - h).to_world(rest)) / (2 * h);
+    const RigidPose p = motion.at(t);
+    EXPECT_TRUE(p.velocity_at(p.to_world(rest)).isApprox(fd, 1e-6)) << t;
+    EXPECT_TRUE(p.to_rest(p.to_world(rest)).isApprox(rest, 1e-12));
+  }
+  // Held after the last keyframe, at rest.
+  EXPECT_TRUE(motion.at(5).velocity.isZero());
+  EXPECT_NEAR(motion.at(5).translation.y(), 0.1, 1e-12);
 }
