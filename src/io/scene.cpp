@@ -223,11 +223,13 @@ mpm::Setup build_mpm_setup(const Ctx& c, const json& doc, const sph::Setup& sph)
     if (m["elastic_model"].get<std::string>() == "fixed_corotated") mat.elastic = mpm::FixedCorotated{mat.lame};
     else mat.elastic = mpm::Hencky{mat.lame};
     const json& pj = m["plasticity"];
-    if (pj["model"].get<std::string>() == "von_mises") {
-      if (std::holds_alternative<mpm::FixedCorotated>(mat.elastic))
-        c.fail("materials." + it.key() + ".plasticity", "von_mises plasticity needs elastic_model \"hencky\"");
-      mat.plastic = mpm::VonMises{pj["yield_stress"].get<double>(), pj["viscosity"].get<double>()};
-    }
+    const std::string model = pj["model"].get<std::string>();
+    if (model != "none" && std::holds_alternative<mpm::FixedCorotated>(mat.elastic))
+      c.fail("materials." + it.key() + ".plasticity", model + " plasticity needs elastic_model \"hencky\"");
+    if (model == "von_mises") mat.plastic = mpm::VonMises{pj["yield_stress"].get<double>(), pj["viscosity"].get<double>()};
+    if (model == "cam_clay")
+      mat.plastic = mpm::CamClay{pj["yield_stress"].get<double>(), pj["viscosity"].get<double>(),
+                                 pj["cohesion_slope"].get<double>(), pj["initial_porosity"].get<double>()};
     setup.materials.push_back(mat);
   }
   for (std::size_t i = 0; i < sph.bodies.size(); ++i) {
@@ -495,7 +497,9 @@ std::string describe(const Scene& scene, Solver& solver) {
     for (const auto& mat : scene.mpm.materials)
       out += fmt::format("  material {:<12} rho {} kg/m^3, mu {:.4g} Pa, lambda {:.4g} Pa, {}, {}\n", mat.name, mat.density, mat.lame.mu,
                          mat.lame.lambda, std::holds_alternative<mpm::Hencky>(mat.elastic) ? "hencky" : "fixed corotated",
-                         std::holds_alternative<mpm::VonMises>(mat.plastic) ? "von Mises plasticity" : "elastic");
+                         std::holds_alternative<mpm::VonMises>(mat.plastic)   ? "von Mises plasticity"
+                         : std::holds_alternative<mpm::CamClay>(mat.plastic) ? "Cam-clay plasticity"
+                                                                             : "elastic");
     const Real dt = solver.max_stable_dt();
     out += fmt::format("time step  {:.3e} s at t = 0 ({}), about {:.0f} steps for the whole run at this rate\n", dt,
                        solver.active_dt_bound(), scene.end_time / dt);

@@ -4,6 +4,7 @@
 #include <Eigen/Geometry>
 #include <Eigen/LU>
 #include <Eigen/SVD>
+#include <algorithm>
 #include <cmath>
 
 namespace bakesim::mpm {
@@ -125,18 +126,73 @@ Real energy_density(const ElasticLaw& law, const Mat3& f) {
   return c.lame.mu * (s.sigma - Vec3::Ones()).squaredNorm() + 0.5 * c.lame.lambda * (j - 1) * (j - 1);
 }
 
-Svd3 return_map(const VonMises& law, const Lame& lame, Real dt, const Svd3& svd) {
-  // Spec 3.2 with A = 0: the trial deviatoric Hencky strain is scaled onto
-  // q = τ_y, then relaxed back towards the trial by 1/(1 + 2μΔt/η).
+namespace {
+
+// Spec 3.2 steps 1–4 in principal Hencky strains for the ellipse
+// q² + A p² ≤ τ_y² (A = 0: von Mises). Minimising the energy distance
+// (p − p_tr)²/(2K) + (q − q_tr)²/(6μ) on f = 0 gives p = p_tr / (1 + 2KAΔγ),
+// q = q_tr / (1 + 6μΔγ); f(Δγ) is convex and decreasing, so Newton from
+// Δγ = 0 approaches its root monotonically from below.
+Svd3 ellipse_return(Real yield, Real viscosity, Real a, const Lame& lame, Real dt, const Svd3& svd) {
   const Vec3 eps = svd.sigma.cwiseAbs().array().max(1e-12).log().matrix();
-  const Real mean = eps.sum() / 3;
-  const Vec3 dev = eps.array() - mean;
-  const Real q = std::sqrt(1.5) * 2 * lame.mu * dev.norm();
-  if (q <= law.yield_stress) return svd;
-  const Vec3 dev_proj = dev * (law.yield_stress / q);
-  const Real keep = law.viscosity > 0 ? 1.0 / (1.0 + 2 * lame.mu * dt / law.viscosity) : 0.0;
-  const Vec3 dev_new = dev_proj + keep * (dev - dev_proj);
-  return Svd3{svd.u, svd.v, (dev_new.array() + mean).exp().matrix()};
+  const Real bulk = lame.lambda + 2 * lame.mu / 3;
+  const Real tr = eps.sum();
+  const Vec3 dev = eps.array() - tr / 3;
+  const Real p_tr = -bulk * tr;
+  const Real q_tr = std::sqrt(1.5) * 2 * lame.mu * dev.norm();
+  const Real y2 = yield * yield;
+  if (q_tr * q_tr + a * p_tr * p_tr <= y2) return svd;
+  Real p, q;
+  if (yield <= 0) {
+    q = 0;
+    p = a > 0 ? 0 : p_tr;
+  } else if (a == 0) {  // von Mises: radial return, pressure unchanged
+    q = yield;
+    p = p_tr;
+  } else {
+    Real g = 0;
+    for (int it = 0; it < 100; ++it) {
+      const Real sq = 1 / (1 + 6 * lame.mu * g), sp = 1 / (1 + 2 * bulk * a * g);
+      const Real qq = q_tr * sq, pp = p_tr * sp;
+      const Real f = qq * qq + a * pp * pp - y2;
+      if (f <= 1e-12 * y2) break;
+      const Real df = -12 * lame.mu * qq * qq * sq - 4 * bulk * a * a * pp * pp * sp;
+      g -= f / df;
+    }
+    q = q_tr / (1 + 6 * lame.mu * g);
+    p = p_tr / (1 + 2 * bulk * a * g);
+  }
+  const Real keep = viscosity > 0 ? 1.0 / (1.0 + 2 * lame.mu * dt / viscosity) : 0.0;
+  const Real p_new = p + keep * (p_tr - p), q_new = q + keep * (q_tr - q);
+  const Vec3 dev_new = q_tr > 0 ? Vec3(dev * (q_new / q_tr)) : dev;
+  const Real tr_new = -p_new / bulk;
+  return Svd3{svd.u, svd.v, (dev_new.array() + tr_new / 3).exp().matrix()};
+}
+
+}  // namespace
+
+Svd3 return_map(const VonMises& law, const Lame& lame, Real dt, const Svd3& svd) {
+  return ellipse_return(law.yield_stress, law.viscosity, 0, lame, dt, svd);
+}
+
+Real CamClay::porosity(Real plastic_j) const {
+  return std::clamp((plastic_j - 1 + initial_porosity) / plastic_j, Real(0), Real(0.95));
+}
+
+Real CamClay::a(Real plastic_j) const {
+  const Real n = porosity(plastic_j);
+  return cohesion_slope * n / (1 - n);
+}
+
+Svd3 return_map(const CamClay& law, const Lame& lame, Real dt, Real plastic_j, const Svd3& svd) {
+  return ellipse_return(law.yield_stress, law.viscosity, law.a(plastic_j), lame, dt, svd);
+}
+
+Real yield_function(const CamClay& law, Real plastic_j, const Vec3& tau) {
+  const Real p = -tau.sum() / 3;
+  const Vec3 dev = tau.array() + p;
+  const Real q = std::sqrt(1.5) * dev.norm();
+  return q * q + law.a(plastic_j) * p * p - law.yield_stress * law.yield_stress;
 }
 
 }  // namespace bakesim::mpm

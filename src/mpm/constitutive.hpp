@@ -51,12 +51,29 @@ struct VonMises {
   Real yield_stress;   // τ_y (uniaxial), Pa
   Real viscosity = 0;  // η, Pa·s
 };
-using PlasticLaw = std::variant<NoPlasticity, VonMises>;
+// Porous Cam-clay of spec 3.2: f = q² + A(n) p² − τ_y² ≤ 0 with p = −tr τ / 3,
+// A(n) = a_p n / (1 − n) and the porosity n = (J^P − 1 + n₀) / J^P in
+// [0, 0.95]; A = 0 is von Mises. Same viscoplastic relaxation.
+struct CamClay {
+  Real yield_stress;
+  Real viscosity = 0;
+  Real cohesion_slope = 2;   // a_p
+  Real initial_porosity = 0; // n₀
+  Real porosity(Real plastic_j) const;
+  Real a(Real plastic_j) const;  // A(n(J^P))
+};
+using PlasticLaw = std::variant<NoPlasticity, VonMises, CamClay>;
 
 // Return mapping of spec 3.2 for a Hencky material: projects the trial F^E
 // (given by its SVD) and returns the SVD of the new F^E — the same rotations
 // with new singular values; unchanged when elastic.
 Svd3 return_map(const VonMises& law, const Lame& lame, Real dt, const Svd3& svd);
+// The same for Cam-clay at the particle's plastic volume ratio J^P: the
+// closest point of the ellipse in the energy norm (a scalar Newton solve for
+// the plastic multiplier), then the relaxation.
+Svd3 return_map(const CamClay& law, const Lame& lame, Real dt, Real plastic_j, const Svd3& svd);
+// Yield function f(τ) of a principal Kirchhoff stress (for tests).
+Real yield_function(const CamClay& law, Real plastic_j, const Vec3& principal_tau);
 inline Mat3 compose(const Svd3& s) { return s.u * s.sigma.asDiagonal() * s.v.transpose(); }
 
 }  // namespace bakesim::mpm

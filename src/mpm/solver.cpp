@@ -397,9 +397,10 @@ void MpmSolver::phase_plasticity(Real dt) {
           if (material_[i] != id) return;
           Mat3 f = deformation_gradient(i);
           Svd3 s = svd3(f);
-          if constexpr (std::is_same_v<P, VonMises>) {
+          if constexpr (!std::is_same_v<P, NoPlasticity>) {
             const Vec3 trial = s.sigma;
-            s = return_map(plastic, mat.lame, dt, s);
+            if constexpr (std::is_same_v<P, CamClay>) s = return_map(plastic, mat.lame, dt, jp_[i], s);
+            else s = return_map(plastic, mat.lame, dt, s);
             if (s.sigma != trial) {
               f = compose(s);
               set_deformation_gradient(i, f);

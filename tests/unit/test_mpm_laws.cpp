@@ -86,3 +86,61 @@ TEST(MpmLaws, VonMisesProjectsOntoTheYieldSurfaceAndKeepsVolume) {
   const Mat3 small = Mat3::Identity() + 1e-4 * sample_f(0);
   EXPECT_NEAR((compose(return_map(vm, lame, 1e-3, svd3(small))) - small).norm(), 0.0, 1e-12);
 }
+
+namespace {
+Vec3 principal_tau(const Lame& lame, const Mat3& fe) {
+  const Svd3 s = svd3(fe);
+  const Vec3 eps = s.sigma.array().log().matrix();
+  return (2 * lame.mu * eps).array() + lame.lambda * eps.sum();
+}
+}  // namespace
+
+TEST(MpmLaws, CamClayIsVonMisesWithoutPorosity) {
+  const Lame lame = Lame::from_young(1e4, 0.3);
+  const CamClay cc{100.0, 0.0, 2.0, 0.0};
+  EXPECT_EQ(cc.porosity(1.0), 0.0);
+  EXPECT_EQ(cc.porosity(0.8), 0.0);  // compacted below zero porosity: clamped
+  EXPECT_NEAR(cc.porosity(1.25), 0.2, 1e-12);
+  EXPECT_NEAR(cc.a(1.25), 2 * 0.2 / 0.8, 1e-12);
+  const Mat3 f = sample_f(3);
+  const Mat3 a = compose(return_map(cc, lame, 1e-3, 1.0, svd3(f)));
+  const Mat3 b = compose(return_map(VonMises{100.0, 0.0}, lame, 1e-3, svd3(f)));
+  EXPECT_NEAR((a - b).norm(), 0.0, 1e-12);
+}
+
+TEST(MpmLaws, CamClayReturnsToTheClosestPointOfTheEllipseInTheEnergyNorm) {
+  const Lame lame = Lame::from_young(1e4, 0.3);
+  const Real bulk = lame.lambda + 2 * lame.mu / 3;
+  const CamClay cc{100.0, 0.0, 2.0, 0.1};
+  const Real jp = 1.3;  // porosity (0.3 + 0.1) / 1.3, A ≈ 0.89
+  const Real a = cc.a(jp);
+  ASSERT_GT(a, 0.5);
+  // Trial states: dilated (p < 0), compressed (p > 0) and sheared.
+  const Mat3 trials[3] = {1.03 * sample_f(3), 0.97 * sample_f(3), sample_f(2)};
+  for (int k = 0; k < 3; ++k) {
+    const Mat3& f = trials[k];
+    const Vec3 t_tr = principal_tau(lame, f);
+    ASSERT_GT(yield_function(cc, jp, t_tr), 0) << k;
+    const Mat3 fe = compose(return_map(cc, lame, 1e-3, jp, svd3(f)));
+    const Vec3 t = principal_tau(lame, fe);
+    EXPECT_NEAR(yield_function(cc, jp, t) / (100.0 * 100.0), 0.0, 1e-9) << k;  // on f = 0
+    // Brute force: the point of the ellipse q² + A p² = τ_y² nearest the
+    // trial in the energy norm Δp²/K + Δq²/(3μ).
+    const Real p_tr = -t_tr.sum() / 3, q_tr = std::sqrt(1.5) * (t_tr.array() + p_tr).matrix().norm();
+    Real best = 1e300, bp = 0, bq = 0;
+    for (int i = 0; i <= 200000; ++i) {
+      const Real th = M_PI * i / 200000;
+      const Real p = 100.0 / std::sqrt(a) * std::cos(th), q = 100.0 * std::sin(th);
+      const Real e = (p - p_tr) * (p - p_tr) / bulk + (q - q_tr) * (q - q_tr) / (3 * lame.mu);
+      if (e < best) best = e, bp = p, bq = q;
+    }
+    const Real p = -t.sum() / 3, q = std::sqrt(1.5) * (t.array() + p).matrix().norm();
+    EXPECT_NEAR(p, bp, 0.05) << k;
+    EXPECT_NEAR(q, bq, 0.05) << k;
+  }
+  // The more porous, the less it holds under tension: a dilated state that
+  // von Mises keeps yields with porosity.
+  const Mat3 dilated = 1.006 * Mat3::Identity();  // p ≈ −150 Pa: A p² > τ_y²
+  EXPECT_NEAR((compose(return_map(VonMises{100.0, 0.0}, lame, 1e-3, svd3(dilated))) - dilated).norm(), 0, 1e-15);
+  EXPECT_LT(compose(return_map(cc, lame, 1e-3, jp, svd3(dilated))).determinant(), dilated.determinant());
+}
