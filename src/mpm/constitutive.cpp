@@ -39,7 +39,8 @@ void symmetric_eigen(Mat3 a, Mat3& q, Vec3& lambda) {
   for (int sweep = 0; sweep < 12; ++sweep) {
     const Real off = a(0, 1) * a(0, 1) + a(0, 2) * a(0, 2) + a(1, 2) * a(1, 2);
     const Real diag = a(0, 0) * a(0, 0) + a(1, 1) * a(1, 1) + a(2, 2) * a(2, 2);
-    if (off <= 1e-30 * diag || off == 0) break;
+    // Off-diagonals below 1e-12 of the diagonal: eigenvalues to 1e-24.
+    if (off <= 1e-24 * diag) break;
     for (int k = 0; k < 3; ++k) {
       const int p = k == 2 ? 1 : 0, r = k == 0 ? 1 : 2;  // pairs (0,1), (0,2), (1,2)
       const Real apr = a(p, r);
@@ -58,6 +59,7 @@ void symmetric_eigen(Mat3 a, Mat3& q, Vec3& lambda) {
         a(p, i) = c * api - s * ari;
         a(r, i) = s * api + c * ari;
       }
+      a(p, r) = a(r, p) = 0;  // zero by construction; round-off would only slow the stop
       for (int i = 0; i < 3; ++i) {
         const Real qip = q(i, p), qir = q(i, r);
         q(i, p) = c * qip - s * qir;

@@ -231,6 +231,8 @@ void MpmSolver::phase_sort() {
   if (steps_ % every == 0) {
     particles_.permute(order_);
     for (std::size_t i = 0; i < n; ++i) order_[i] = static_cast<std::uint32_t>(i);
+    material_members_.assign(setup_.materials.size(), {});
+    for (std::size_t i = 0; i < n; ++i) material_members_[material_[i]].push_back(static_cast<std::uint32_t>(i));
   }
   colour_blocks_.assign(8, {});
   for (std::size_t b = 0; b < blocks; ++b) {
@@ -386,15 +388,14 @@ void MpmSolver::phase_g2p(Real dt) {
 // F^E, then the Kirchhoff stress for the next P2G. One dispatch per material.
 void MpmSolver::phase_plasticity(Real dt) {
   ScopedPhase t(timers_, t_plastic_);
-  const std::size_t n = x_.size();
   for (std::size_t mi = 0; mi < setup_.materials.size(); ++mi) {
     const Material& mat = setup_.materials[mi];
-    const int id = static_cast<int>(mi);
     std::visit([&](const auto& elastic) {
       std::visit([&](const auto& plastic) {
         using P = std::decay_t<decltype(plastic)>;
-        parallel_for(n, [&](std::size_t i) {
-          if (material_[i] != id) return;
+        const std::vector<std::uint32_t>& members = material_members_[mi];
+        parallel_for(members.size(), [&](std::size_t k) {
+          const std::size_t i = members[k];
           Mat3 f = deformation_gradient(i);
           Svd3 s = svd3(f);
           if constexpr (!std::is_same_v<P, NoPlasticity>) {

@@ -141,6 +141,9 @@ class MpmSolver final : public Solver {
   std::vector<std::uint32_t> block_key_;
   std::vector<std::vector<std::uint32_t>> colour_blocks_;  // non-empty blocks per colour
   std::vector<std::uint32_t> block_fill_;  // counting-sort cursors, reused
+  // Particle indices of each material, rebuilt when particle memory is
+  // reordered: the constitutive phase dispatches once per material group.
+  std::vector<std::vector<std::uint32_t>> material_members_;
 
   std::size_t t_sort_, t_p2g_, t_grid_, t_g2p_, t_plastic_, t_check_;
   Real time_ = 0;
