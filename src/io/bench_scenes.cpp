@@ -1,0 +1,54 @@
+#include "io/bench_scenes.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "core/errors.hpp"
+
+namespace bakesim {
+
+std::string dam_break_scene_json(long particles, const std::string& search) {
+  // Column a × 2a × depth, depth = a/2 (thin 3D slab of the 2D experiment).
+  const double a = 0.146;
+  const double depth = 0.5 * a;
+  const double volume = a * 2 * a * depth;
+  const double spacing = std::cbrt(volume / double(particles));
+  return fmt::format(R"({{
+  "name": "dam-break-bench",
+  "solver": {{"type": "sph", "sph": {{"spacing": {spacing}, "neighbour_search": "{search}"}}}},
+  "time": {{"end": 1.0, "fps": 1}},
+  "domain": {{"min": [0, 0, 0], "max": [{lx}, {ly}, {depth}]}},
+  "materials": {{"water": {{"density": 1000, "viscosity": 0.001, "xsph": 0.1}}}},
+  "bodies": [{{"name": "column", "material": "water",
+              "shape": {{"type": "box", "min": [0, 0, 0], "max": [{a}, {h}, {depth}]}}}}]
+}})",
+                     fmt::arg("spacing", spacing), fmt::arg("search", search), fmt::arg("lx", 4 * a),
+                     fmt::arg("ly", 3 * a), fmt::arg("depth", depth), fmt::arg("a", a), fmt::arg("h", 2 * a));
+}
+
+std::string mpm_cube_scene_json(long particles, const std::string& model) {
+  const double side = 0.2;
+  const double cell = side / std::cbrt(double(particles) / 8.0);
+  std::string material;
+  if (model == "elastic")
+    material = R"("density": 1000, "youngs_modulus": 1e5, "poisson_ratio": 0.3)";
+  else if (model == "viscoplastic")
+    material = R"("density": 1000, "youngs_modulus": 1e5, "poisson_ratio": 0.3, "plasticity": {"model": "von_mises", "yield_stress": 200, "viscosity": 10})";
+  else
+    throw InputError("bench --model", "unknown MPM benchmark model '" + model + "' (elastic, viscoplastic)");
+  // The cube moves down at 1 m/s onto the floor: the timed steps squash it.
+  return fmt::format(R"({{
+  "name": "mpm-cube-bench",
+  "solver": {{"type": "mpm", "mpm": {{"cell_size": {cell}, "particles_per_cell": 8}}}},
+  "time": {{"end": 1.0, "fps": 1}},
+  "domain": {{"min": [-0.2, 0, -0.2], "max": [0.2, 0.4, 0.2]}},
+  "materials": {{"dough": {{{material}}}}},
+  "bodies": [{{"name": "cube", "material": "dough", "velocity": [0, -1, 0],
+              "shape": {{"type": "box", "min": [-0.1, 0.03, -0.1], "max": [0.1, 0.23, 0.1]}}}}],
+  "colliders": [{{"name": "floor", "shape": {{"type": "plane", "point": [0, 0.03, 0], "normal": [0, 1, 0]}}, "contact": "separate", "friction": 0.3}}]
+}})",
+                     fmt::arg("cell", cell), fmt::arg("material", material));
+}
+
+}  // namespace bakesim
