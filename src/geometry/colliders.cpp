@@ -76,16 +76,6 @@ WallContact signed_distance(const ColliderGeometry& g, const Vec3& p) {
     if (!m->sdf) return {std::numeric_limits<Real>::infinity(), Vec3::UnitY()};
     return m->sdf->sample(p);
   }
-  if (const auto* inside = std::get_if<InsideBoxCollider>(&g)) {
-    // Outside the box is solid: the nearest face, also from outside.
-    WallContact best{std::numeric_limits<Real>::infinity(), Vec3::UnitY()};
-    for (int k = 0; k < 3; ++k) {
-      const Real lo = p[k] - inside->box.min[k], hi = inside->box.max[k] - p[k];
-      if (lo < best.distance) best = {lo, Vec3::Unit(k)};
-      if (hi < best.distance) best = {hi, -Vec3::Unit(k)};
-    }
-    return best;
-  }
   WallContact best{std::numeric_limits<Real>::infinity(), Vec3::UnitY()};
   for_each_wall(g, p, std::numeric_limits<Real>::infinity(), [&](const WallContact& c) {
     if (c.distance < best.distance) best = c;
@@ -204,7 +194,7 @@ MeshCollider MeshCollider::build(TriangleMesh mesh, Real cell_size) {
   auto m = std::make_shared<const TriangleMesh>(std::move(mesh));
   auto normals = std::make_shared<std::vector<Vec3>>(m->triangles.size());
   for (std::size_t t = 0; t < m->triangles.size(); ++t) (*normals)[t] = m->normal(t);
-  return MeshCollider{m, std::make_shared<const TriangleGrid>(*m, cell_size), normals};
+  return MeshCollider{m, std::make_shared<const TriangleGrid>(*m, cell_size), normals, nullptr};
 }
 
 SegmentHit mesh_segment_hits(const MeshCollider& m, const Vec3& from, const Vec3& to, Real radius) {

@@ -1,6 +1,5 @@
 #include "mpm/constitutive.hpp"
 
-#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <Eigen/LU>
 #include <Eigen/SVD>
@@ -173,7 +172,7 @@ Svd3 ellipse_return(Real yield, Real viscosity, Real a, const Lame& lame, Real d
 
 }  // namespace
 
-Svd3 return_map(const VonMises& law, const Lame& lame, Real dt, const Svd3& svd) {
+Svd3 return_map(const VonMises& law, const Lame& lame, Real dt, Real, const Svd3& svd) {
   return ellipse_return(law.yield_stress, law.viscosity, 0, lame, dt, svd);
 }
 

@@ -66,11 +66,11 @@ using PlasticLaw = std::variant<NoPlasticity, VonMises, CamClay>;
 
 // Return mapping of spec 3.2 for a Hencky material: projects the trial F^E
 // (given by its SVD) and returns the SVD of the new F^E — the same rotations
-// with new singular values; unchanged when elastic.
-Svd3 return_map(const VonMises& law, const Lame& lame, Real dt, const Svd3& svd);
-// The same for Cam-clay at the particle's plastic volume ratio J^P: the
-// closest point of the ellipse in the energy norm (a scalar Newton solve for
-// the plastic multiplier), then the relaxation.
+// with new singular values; unchanged when elastic. Every plastic law takes
+// the particle's plastic volume ratio J^P (Cam-clay's porosity; von Mises
+// ignores it). Cam-clay: the closest point of the ellipse in the energy norm
+// (a scalar Newton solve for the plastic multiplier), then the relaxation.
+Svd3 return_map(const VonMises& law, const Lame& lame, Real dt, Real plastic_j, const Svd3& svd);
 Svd3 return_map(const CamClay& law, const Lame& lame, Real dt, Real plastic_j, const Svd3& svd);
 // Yield function f(τ) of a principal Kirchhoff stress (for tests).
 Real yield_function(const CamClay& law, Real plastic_j, const Vec3& principal_tau);

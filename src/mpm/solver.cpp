@@ -306,9 +306,8 @@ void MpmSolver::phase_grid(Real dt) {
   const ColliderGeometry walls = InsideBoxCollider{{setup_.domain.min + Vec3::Constant(2 * dx_), setup_.domain.max - Vec3::Constant(2 * dx_)}};
   const std::size_t nz = nz_, syz = std::size_t(ny_) * nz_;
   // Collider poses at the end of the step, where the nodes' new velocities take the material.
-  std::vector<RigidPose> poses;
-  poses.reserve(setup_.colliders.size());
-  for (const GridCollider& c : setup_.colliders) poses.push_back(c.motion.at(time_ + dt));
+  collider_poses_.resize(setup_.colliders.size());
+  for (std::size_t ci = 0; ci < setup_.colliders.size(); ++ci) collider_poses_[ci] = setup_.colliders[ci].motion.at(time_ + dt);
   parallel_for(grid_.size(), [&](std::size_t k) {
     Node& node = grid_[k];
     if (node.mass <= 0) return;
@@ -316,7 +315,7 @@ void MpmSolver::phase_grid(Real dt) {
     const Vec3 xi = origin + dx_ * Vec3(Real(k / syz), Real((k / nz) % ny_), Real(k % nz));
     for (std::size_t ci = 0; ci < setup_.colliders.size(); ++ci) {
       const GridCollider& c = setup_.colliders[ci];
-      const RigidPose& pose = poses[ci];
+      const RigidPose& pose = collider_poses_[ci];
       const WallContact w = signed_distance(c.collider.geometry, pose.to_rest(xi));
       if (w.distance > 0) continue;
       const Vec3 vc = pose.velocity_at(xi);
@@ -400,8 +399,7 @@ void MpmSolver::phase_plasticity(Real dt) {
           Svd3 s = svd3(f);
           if constexpr (!std::is_same_v<P, NoPlasticity>) {
             const Vec3 trial = s.sigma;
-            if constexpr (std::is_same_v<P, CamClay>) s = return_map(plastic, mat.lame, dt, jp_[i], s);
-            else s = return_map(plastic, mat.lame, dt, s);
+            s = return_map(plastic, mat.lame, dt, jp_[i], s);
             if (s.sigma != trial) {
               f = compose(s);
               set_deformation_gradient(i, f);

@@ -144,6 +144,7 @@ class MpmSolver final : public Solver {
   // Particle indices of each material, rebuilt when particle memory is
   // reordered: the constitutive phase dispatches once per material group.
   std::vector<std::vector<std::uint32_t>> material_members_;
+  std::vector<RigidPose> collider_poses_;  // per collider, refreshed each grid phase
 
   std::size_t t_sort_, t_p2g_, t_grid_, t_g2p_, t_plastic_, t_check_;
   Real time_ = 0;

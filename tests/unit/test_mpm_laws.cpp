@@ -70,21 +70,21 @@ TEST(MpmLaws, VonMisesProjectsOntoTheYieldSurfaceAndKeepsVolume) {
   const Lame lame = Lame::from_young(1e4, 0.3);
   const VonMises vm{100.0, 0.0};
   const Mat3 f = sample_f(3);
-  const Mat3 fe = compose(return_map(vm, lame, 1e-3, svd3(f)));
+  const Mat3 fe = compose(return_map(vm, lame, 1e-3, 1.0, svd3(f)));
   const Mat3 tau = kirchhoff_stress(Hencky{lame}, fe, svd3(fe));
   const Mat3 dev = tau - tau.trace() / 3 * Mat3::Identity();
   EXPECT_NEAR(std::sqrt(1.5) * dev.norm(), 100.0, 1e-9);          // on f = 0
   EXPECT_NEAR(fe.determinant(), f.determinant(), 1e-12);          // plastic flow is isochoric
   // Viscoplastic: part of the way back, by 1/(1 + 2μΔt/η).
   const VonMises slow{100.0, 2 * lame.mu * 1e-3};                  // keep = 1/2
-  const Mat3 fs = compose(return_map(slow, lame, 1e-3, svd3(f)));
+  const Mat3 fs = compose(return_map(slow, lame, 1e-3, 1.0, svd3(f)));
   const Mat3 ts = kirchhoff_stress(Hencky{lame}, fs, svd3(fs));
   const Mat3 tt = kirchhoff_stress(Hencky{lame}, f, svd3(f));
   const auto q = [](const Mat3& t) { return std::sqrt(1.5) * (t - t.trace() / 3 * Mat3::Identity()).norm(); };
   EXPECT_NEAR(q(ts), 100.0 + 0.5 * (q(tt) - 100.0), 1e-6 * q(tt));
   // Inside the yield surface nothing changes.
   const Mat3 small = Mat3::Identity() + 1e-4 * sample_f(0);
-  EXPECT_NEAR((compose(return_map(vm, lame, 1e-3, svd3(small))) - small).norm(), 0.0, 1e-12);
+  EXPECT_NEAR((compose(return_map(vm, lame, 1e-3, 1.0, svd3(small))) - small).norm(), 0.0, 1e-12);
 }
 
 namespace {
@@ -104,7 +104,7 @@ TEST(MpmLaws, CamClayIsVonMisesWithoutPorosity) {
   EXPECT_NEAR(cc.a(1.25), 2 * 0.2 / 0.8, 1e-12);
   const Mat3 f = sample_f(3);
   const Mat3 a = compose(return_map(cc, lame, 1e-3, 1.0, svd3(f)));
-  const Mat3 b = compose(return_map(VonMises{100.0, 0.0}, lame, 1e-3, svd3(f)));
+  const Mat3 b = compose(return_map(VonMises{100.0, 0.0}, lame, 1e-3, 1.0, svd3(f)));
   EXPECT_NEAR((a - b).norm(), 0.0, 1e-12);
 }
 
@@ -141,6 +141,6 @@ TEST(MpmLaws, CamClayReturnsToTheClosestPointOfTheEllipseInTheEnergyNorm) {
   // The more porous, the less it holds under tension: a dilated state that
   // von Mises keeps yields with porosity.
   const Mat3 dilated = 1.006 * Mat3::Identity();  // p ≈ −150 Pa: A p² > τ_y²
-  EXPECT_NEAR((compose(return_map(VonMises{100.0, 0.0}, lame, 1e-3, svd3(dilated))) - dilated).norm(), 0, 1e-15);
+  EXPECT_NEAR((compose(return_map(VonMises{100.0, 0.0}, lame, 1e-3, 1.0, svd3(dilated))) - dilated).norm(), 0, 1e-15);
   EXPECT_LT(compose(return_map(cc, lame, 1e-3, jp, svd3(dilated))).determinant(), dilated.determinant());
 }
