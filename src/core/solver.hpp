@@ -2,6 +2,7 @@
 // The thin interface the frame loop drives. Each solver owns its state; the
 // loop asks for a stable step, steps, and reads particles for output.
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/particles.hpp"
@@ -26,6 +27,9 @@ class Solver {
   virtual std::vector<Real> sample(const Vec3& x, const std::vector<std::string>& quantities) const = 0;
   // Names accepted by sample().
   virtual std::vector<std::string> probe_quantities() const = 0;
+  // Solver-specific per-frame numbers for stats.csv (name, value), the same
+  // names on every frame.
+  virtual std::vector<std::pair<std::string, Real>> frame_quantities() const { return {}; }
 };
 
 }  // namespace bakesim

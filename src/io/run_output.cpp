@@ -91,6 +91,14 @@ void RunOutput::on_frame(const FrameInfo& info, const Solver& solver) {
       write_file_atomic(dir_ / "particles.pvd", encode_pvd(pvd_));
     }
   }
+  const auto extra = solver.frame_quantities();
+  if (!extra_header_written_) {
+    // Solver-specific columns (MPM: core/crust temperature, water, CO2) join the header on the first frame.
+    std::string names;
+    for (const auto& [name, value] : extra) names += "," + name;
+    stats_ = stats_header() + names + "\n";
+    extra_header_written_ = true;
+  }
   const FrameStats s = compute_frame_stats(ps);
   const Real bake_time = info.time * scene_.bake_time_scale;
   std::string row = fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}", num(info.time), info.steps,
@@ -129,6 +137,7 @@ void RunOutput::on_frame(const FrameInfo& info, const Solver& solver) {
       row += "," + num(at == ids.end() ? std::numeric_limits<Real>::quiet_NaN()
                                        : particle_quantity(ps, std::size_t(at - ids.begin()), q));
   }
+  for (const auto& [name, value] : extra) row += "," + num(value);
   stats_ += row + "\n";
   write_file_atomic(dir_ / "stats.csv", stats_);
   flush_log();

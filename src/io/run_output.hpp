@@ -46,6 +46,7 @@ class RunOutput final : public FrameObserver {
   const Scene& scene_;
   RunLog& log_;
   std::string stats_;
+  bool extra_header_written_ = false;
   std::vector<PvdEntry> pvd_;
   std::vector<std::int32_t> follow_ids_;  // per probe: followed particle id, -1 for fixed probes
   Stopwatch clock_;

@@ -226,10 +226,40 @@ mpm::Setup build_mpm_setup(const Ctx& c, const json& doc, const sph::Setup& sph)
     const std::string model = pj["model"].get<std::string>();
     if (model != "none" && std::holds_alternative<mpm::FixedCorotated>(mat.elastic))
       c.fail("materials." + it.key() + ".plasticity", model + " plasticity needs elastic_model \"hencky\"");
-    if (model == "von_mises") mat.plastic = mpm::VonMises{pj["yield_stress"].get<double>(), pj["viscosity"].get<double>()};
+    const std::string mpath = "materials." + it.key();
+    // Temperature-dependent τ_y(θ), η(θ) (spec 3.2, paper Fig 8): piecewise-linear curves.
+    auto plastic_curve = [&](const std::string& key) {
+      const TemperatureCurve curve = build_curve(c, mpath + ".plasticity." + key, pj[key]);
+      if (const auto* k = std::get_if<ConstantCurve>(&curve)) return PiecewiseLinear::constant(k->value);
+      if (const auto* pl = std::get_if<PiecewiseLinear>(&curve)) return *pl;
+      c.fail(mpath + ".plasticity." + key, "MPM plasticity takes a number or a piecewise_linear curve");
+    };
+    const PiecewiseLinear yield = plastic_curve("yield_stress"), viscosity = plastic_curve("viscosity");
+    const bool curved = !pj["yield_stress"].is_number() || !pj["viscosity"].is_number() || !pj["set_temperature"].is_null();
+    if (model != "none" && curved) {
+      SettingCurves sc{yield, viscosity};
+      if (!pj["set_temperature"].is_null()) sc.set_temperature = pj["set_temperature"].get<double>();
+      mat.setting = sc;
+    }
+    const Real yield0 = yield(20.0), viscosity0 = viscosity(20.0);
+    mat.initial_porosity = pj["initial_porosity"].get<double>();
+    if (model == "von_mises") mat.plastic = mpm::VonMises{yield0, viscosity0};
     if (model == "cam_clay")
-      mat.plastic = mpm::CamClay{pj["yield_stress"].get<double>(), pj["viscosity"].get<double>(),
-                                 pj["cohesion_slope"].get<double>(), pj["initial_porosity"].get<double>()};
+      mat.plastic = mpm::CamClay{yield0, viscosity0, pj["cohesion_slope"].get<double>(), mat.initial_porosity};
+    mat.specific_heat = m["specific_heat"].get<double>();
+    mat.conductivity = m["conductivity"].get<double>();
+    mat.thermal_expansion = m["thermal_expansion"].get<double>();
+    const json& wj = m["water"];
+    mat.water.saturation = wj["saturation"].get<double>();
+    mat.water.diffusivity = wj["diffusivity"].get<double>();
+    mat.water.evaporation_rate = wj["evaporation_rate"].get<double>();
+    mat.water.stiffness = wj["stiffness"].get<double>();
+    const json& lj = m["leavening"];
+    mat.gas.rate = lj["rate"].get<double>();
+    mat.gas.peak_temperature = lj["peak_temperature"].get<double>();
+    mat.gas.width = lj["width"].get<double>();
+    if (mat.gas.active() && model != "cam_clay" && mat.initial_porosity <= 0)
+      c.fail(mpath + ".leavening", "the gas needs pores: give plasticity.initial_porosity > 0 (and cam_clay so the dough can expand)");
     setup.materials.push_back(mat);
   }
   for (std::size_t i = 0; i < sph.bodies.size(); ++i) {
@@ -256,11 +286,34 @@ mpm::Setup build_mpm_setup(const Ctx& c, const json& doc, const sph::Setup& sph)
     const std::string contact = cj["contact"].get<std::string>();
     g.contact = contact == "sticky" ? mpm::Contact::sticky : contact == "slip" ? mpm::Contact::slip : mpm::Contact::separate;
     g.friction = cj["friction"].get<double>();
+    if (!cj["temperature"].is_null()) g.collider.temperature = build_schedule(c, path + ".temperature", cj["temperature"]);
+    g.collider.heat_transfer_coefficient = cj["heat_transfer_coefficient"].get<double>();
     setup.colliders.push_back(std::move(g));
   }
   setup.domain = {vec3(doc["domain"]["min"]), vec3(doc["domain"]["max"])};
   setup.domain_friction = doc["domain"]["friction"].get<double>();
   setup.gravity = vec3(doc["gravity"]);
+  setup.air_temperature = build_schedule(c, "environment.air_temperature", doc["environment"]["air_temperature"]);
+  setup.heat_transfer_coefficient = doc["environment"]["heat_transfer_coefficient"].get<double>();
+  st.bake_time_scale = doc["environment"]["bake_time_scale"].get<double>();
+  st.baseline = mj["model"].get<std::string>() == "baseline";
+  st.heat_tolerance = mj["heat_tolerance"].get<double>();
+  st.heat_max_iterations = mj["heat_max_iterations"].get<int>();
+  const std::string heat = mj["heat"].get<std::string>();
+  if (heat == "explicit") st.heat = mpm::HeatMethod::explicit_;
+  else if (heat == "implicit") st.heat = mpm::HeatMethod::implicit;
+  else if (heat == "off") st.heat = mpm::HeatMethod::off;
+  else {
+    // auto: heat when anything thermal can happen.
+    bool thermal = false;
+    const auto& air = setup.air_temperature.points();
+    for (const auto& b : setup.bodies)
+      for (const auto& [t, v] : air) thermal |= setup.heat_transfer_coefficient > 0 && v != b.temperature;
+    for (const auto& b : setup.bodies) thermal |= b.temperature != setup.bodies.front().temperature;
+    for (const auto& g : setup.colliders) thermal |= g.collider.temperature.has_value();
+    for (const auto& m : setup.materials) thermal |= m.water.active() || m.gas.active() || m.setting.has_value();
+    st.heat = thermal ? mpm::HeatMethod::explicit_ : mpm::HeatMethod::off;
+  }
   return setup;
 }
 

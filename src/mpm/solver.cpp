@@ -68,6 +68,21 @@ MpmSolver::MpmSolver(Setup setup)
       c2_(particles_.add_vector("C_col2", "1/s", false)),
       tau_diag_(particles_.add_vector("kirchhoff_normal", "Pa", false)),
       tau_off_(particles_.add_vector("kirchhoff_shear", "Pa", false)),
+      heat_capacity_(particles_.add_scalar("heat_capacity", "J/K", false)),
+      water_(particles_.add_scalar("water_mass", "kg")),
+      saturation_(particles_.add_scalar("saturation", "")),
+      co2_(particles_.add_scalar("co2", "mol/m^3")),
+      gas_pressure_(particles_.add_scalar("gas_pressure", "Pa")),
+      gelatinized_(particles_.add_int("gelatinized")),
+      grad_theta_(particles_.add_vector("temperature_gradient", "K/m", false)),
+      grad_s_(particles_.add_vector("saturation_gradient", "1/m", false)),
+      exchange_(particles_.add_scalar("exchange", "W/K", false)),
+      exchange_t_(particles_.add_scalar("exchange_temperature", "W", false)),
+      air_area_(particles_.add_scalar("air_area", "m^2", false)),
+      heat_src_(particles_.add_scalar("heat_source", "W", false)),
+      heat_vec_(particles_.add_vector("heat_flux_term", "W", false)),
+      water_src_(particles_.add_scalar("water_source", "kg/s", false)),
+      water_vec_(particles_.add_vector("water_flux_term", "kg/s", false)),
       material_(particles_.add_int("material_id")),
       body_(particles_.add_int("body_id")),
       id_(particles_.add_int("id")) {
@@ -82,6 +97,8 @@ MpmSolver::MpmSolver(Setup setup)
   const std::size_t nodes = std::size_t(nx_) * ny_ * nz_;
   if (nodes > 400'000'000) throw InputError("solver.mpm.cell_size", "the grid over the domain would have more than 4e8 nodes");
   grid_.assign(nodes, Node{0, {0, 0, 0}});
+  if (thermal()) heat_grid_.assign(nodes, HeatNode{});
+  if (s.heat == HeatMethod::implicit) implicit_mass_.assign(nodes, 0);
   bx_ = (nx_ + kBlock - 1) / kBlock;
   by_ = (ny_ + kBlock - 1) / kBlock;
   bz_ = (nz_ + kBlock - 1) / kBlock;
@@ -90,11 +107,18 @@ MpmSolver::MpmSolver(Setup setup)
   t_grid_ = timers_.add("grid");
   t_g2p_ = timers_.add("g2p");
   t_plastic_ = timers_.add("constitutive");
+  t_heat_ = timers_.add("heat_solve");
   t_check_ = timers_.add("check");
-  for (const Material& mat : setup_.materials)
-    max_wave_speed_ = std::max(max_wave_speed_, std::sqrt((mat.lame.lambda + 2 * mat.lame.mu) / mat.density));
+  // Water pressure stiffens the mixture: dP_w/dJ ≈ ξ s₀.
+  for (const Material& mat : setup_.materials) {
+    const Real water = s.baseline ? 0 : mat.water.stiffness * mat.water.saturation;
+    max_wave_speed_ = std::max(max_wave_speed_, std::sqrt((mat.lame.lambda + 2 * mat.lame.mu + water) / mat.density));
+  }
   build_particles();
   phase_sort();
+  budget_.initial_water = total_water();
+  initial_body_water_.assign(setup_.bodies.size(), 0);
+  for (std::size_t i = 0; i < x_.size(); ++i) initial_body_water_[body_[i]] += water_[i];
 }
 
 void MpmSolver::build_particles() {
@@ -127,6 +151,10 @@ void MpmSolver::build_particles() {
       j_[k] = 1;
       jp_[k] = 1;
       temperature_[k] = body.temperature;
+      heat_capacity_[k] = m_[k] * mat.specific_heat;
+      const bool wet = !s.baseline && mat.water.active();
+      water_[k] = wet ? mat.water.saturation * mat.water.water_density * vol : 0;
+      saturation_[k] = wet ? mat.water.saturation : 0;
       set_deformation_gradient(k, Mat3::Identity());
       set_affine(k, Mat3::Zero());
       material_[k] = body.material;
@@ -171,23 +199,54 @@ Real MpmSolver::grid_mass() const {
   return deterministic_sum(grid_.size(), [&](std::size_t k) { return grid_[k].mass; });
 }
 
-// Spec 4.7: Δt ≤ CFL Δx / max|v|, Δt ≤ CFL Δx / c with c = sqrt((λ+2μ)/ρ).
+// Spec 4.7: Δt ≤ CFL Δx / max|v|, Δt ≤ CFL Δx / c with c = sqrt((λ+2μ+ξ s₀)/ρ);
+// with heat, the explicit conduction bound Δt_bake ≤ ρ c Δx² / (6 κ J), the
+// boundary exchange Δt_bake ≤ m c / (2 S β), and water diffusion
+// Δt_bake ≤ Δx² / (6 D(θ_max)) (bake time Δt_bake = Δt · bake_time_scale).
 Real MpmSolver::max_stable_dt() {
   const Settings& s = setup_.settings;
-  const Real vmax2 = deterministic_reduce(
-      x_.size(), Real(0),
+  struct Acc {
+    Real vmax2 = 0, jmax = 0, tmax = -1e300, exchange = 0;
+  };
+  const bool heat = thermal();
+  const Acc acc = deterministic_reduce(
+      x_.size(), Acc{},
       [&](std::size_t b, std::size_t e) {
-        Real m = 0;
-        for (std::size_t i = b; i < e; ++i) m = std::max(m, v_[i].squaredNorm());
-        return m;
+        Acc a;
+        for (std::size_t i = b; i < e; ++i) {
+          a.vmax2 = std::max(a.vmax2, v_[i].squaredNorm());
+          if (heat) {
+            a.jmax = std::max(a.jmax, j_[i]);
+            a.tmax = std::max(a.tmax, temperature_[i]);
+            a.exchange = std::max(a.exchange, exchange_[i] / heat_capacity_[i]);
+          }
+        }
+        return a;
       },
-      [](Real a, Real b) { return std::max(a, b); });
+      [](Acc a, const Acc& b) {
+        a.vmax2 = std::max(a.vmax2, b.vmax2);
+        a.jmax = std::max(a.jmax, b.jmax);
+        a.tmax = std::max(a.tmax, b.tmax);
+        a.exchange = std::max(a.exchange, b.exchange);
+        return a;
+      });
   Real dt = s.max_dt;
   dt_bound_ = "max_dt";
-  const Real cfl_dt = vmax2 > 0 ? s.cfl * dx_ / std::sqrt(vmax2) : std::numeric_limits<Real>::infinity();
-  if (cfl_dt < dt) dt = cfl_dt, dt_bound_ = "cfl";
-  const Real wave_dt = max_wave_speed_ > 0 ? s.cfl * dx_ / max_wave_speed_ : std::numeric_limits<Real>::infinity();
-  if (wave_dt < dt) dt = wave_dt, dt_bound_ = "elastic_wave";
+  auto limit = [&](Real bound, const char* name) {
+    if (bound < dt) dt = bound, dt_bound_ = name;
+  };
+  if (acc.vmax2 > 0) limit(s.cfl * dx_ / std::sqrt(acc.vmax2), "cfl");
+  if (max_wave_speed_ > 0) limit(s.cfl * dx_ / max_wave_speed_, "elastic_wave");
+  if (heat) {
+    const Real scale = s.bake_time_scale;
+    for (const Material& mat : setup_.materials) {
+      if (s.heat == HeatMethod::explicit_ && mat.conductivity > 0)
+        limit(mat.density * mat.specific_heat * dx_ * dx_ / (6 * mat.conductivity * std::max(acc.jmax, Real(1))) / scale, "heat_conduction");
+      if (!s.baseline && mat.water.active() && mat.water.diffusivity > 0)
+        limit(dx_ * dx_ / (6 * mat.water.diffusion_coefficient(std::max(acc.tmax, Real(100)))) / scale, "water_diffusion");
+    }
+    if (s.heat == HeatMethod::explicit_ && acc.exchange > 0) limit(0.5 / acc.exchange / scale, "heat_exchange");
+  }
   return dt;
 }
 
@@ -196,6 +255,7 @@ void MpmSolver::step(Real dt) {
   phase_sort();
   phase_p2g(dt);
   phase_grid(dt);
+  if (setup_.settings.heat == HeatMethod::implicit) phase_heat_implicit(dt);
   phase_g2p(dt);
   phase_plasticity(dt);
   check_state();
@@ -242,14 +302,25 @@ void MpmSolver::phase_sort() {
   }
 }
 
+
 // Spec 4.1 and 4.4: m_i = Σ w m_p, (m v)_i = Σ w m_p (v_p + C_p (x_i − x_p))
 // (APIC), and the stress force. The force uses the MLS-MPM gradient
 // ∇w_ip ≈ w_ip D⁻¹ (x_i − x_p), D⁻¹ = 4/Δx² for quadratic B-splines, so it
 // folds into the affine term: (m v)_i += w (m_p v_p + A_p (x_i − x_p)) with
 // A_p = m_p C_p − Δt V⁰_p D⁻¹ τ_p (Hu et al. 2018, Eq. 16–17).
-void MpmSolver::phase_p2g(Real dt) {
-  ScopedPhase t(timers_, t_p2g_);
-  parallel_for(grid_.size(), [&](std::size_t k) { grid_[k] = Node{0, {0, 0, 0}}; }, 1 << 14);
+// With heat (spec 4.1–4.3): M_i = Σ w m c, E_i = Σ w m c θ, V_i = Σ w V_p,
+// W_i = Σ w m_w and the rates Q_i = Σ w S β (θ_amb − θ) − Σ V κ ∇θ_p · ∇w_ip,
+// ΔW_i = −Σ w E(θ) s S_air + Σ V q_w · ∇w_ip, with the same MLS gradient
+// (∇w_ip = w (4/Δx) o, o the node offset in cells).
+template <bool kThermal>
+void MpmSolver::p2g(Real dt) {
+  parallel_for(grid_.size(), [&](std::size_t k) {
+    grid_[k] = Node{0, {0, 0, 0}};
+    if constexpr (kThermal) {
+      heat_grid_[k] = HeatNode{};
+      if (!implicit_mass_.empty()) implicit_mass_[k] = 0;
+    }
+  }, 1 << 14);
   const Vec3 origin = setup_.domain.min;
   const std::size_t nz = nz_, syz = std::size_t(ny_) * nz_;
   const Real d_inv = 4.0 * inv_dx_ * inv_dx_;
@@ -275,20 +346,47 @@ void MpmSolver::phase_p2g(Real dt) {
         for (int col = 0; col < 3; ++col)
           for (int row = 0; row < 3; ++row) a[col][row] *= dx_;
         const Real mv[3] = {mp * v_[p].x(), mp * v_[p].y(), mp * v_[p].z()};
+        // Thermal channels: scalar parts (h) and offset slopes (hv, per axis).
+        Real h[6] = {0, 0, 0, 0, 0, 0}, hv[3][2] = {{0, 0}, {0, 0}, {0, 0}};
+        if constexpr (kThermal) {
+          h[0] = heat_capacity_[p];
+          h[1] = heat_capacity_[p] * temperature_[p];
+          h[2] = heat_src_[p];
+          h[3] = water_[p];
+          h[4] = j_[p] * volume0_[p];
+          h[5] = water_src_[p];
+          for (int d = 0; d < 3; ++d) hv[d][0] = heat_vec_[p][d], hv[d][1] = water_vec_[p][d];
+        }
         for (int i = 0; i < 3; ++i) {
           const Real ox = i - ax.frac;
           Real ti[3];
           for (int r = 0; r < 3; ++r) ti[r] = mv[r] + a[0][r] * ox;
+          const Real qi = h[2] + hv[0][0] * ox, wi = h[5] + hv[0][1] * ox;
           for (int j = 0; j < 3; ++j) {
             const Real oy = j - ay.frac, wij = ax.w[i] * ay.w[j];
             Real tj[3];
             for (int r = 0; r < 3; ++r) tj[r] = ti[r] + a[1][r] * oy;
-            Node* row = &grid_[std::size_t(ax.base + i) * syz + std::size_t(ay.base + j) * nz + az.base];
+            const std::size_t row_index = std::size_t(ax.base + i) * syz + std::size_t(ay.base + j) * nz + az.base;
+            Node* row = &grid_[row_index];
             for (int kk = 0; kk < 3; ++kk) {
               const Real oz = kk - az.frac, w = wij * az.w[kk];
               Node& node = row[kk];
               node.mass += w * mp;
               for (int r = 0; r < 3; ++r) node.mv[r] += w * (tj[r] + a[2][r] * oz);
+            }
+            if constexpr (kThermal) {
+              const Real qj = qi + hv[1][0] * oy, wj = wi + hv[1][1] * oy;
+              HeatNode* hrow = &heat_grid_[row_index];
+              for (int kk = 0; kk < 3; ++kk) {
+                const Real oz = kk - az.frac, w = wij * az.w[kk];
+                Real* f = hrow[kk].f;
+                f[0] += w * h[0];
+                f[1] += w * h[1];
+                f[2] += w * (qj + hv[2][0] * oz);
+                f[3] += w * h[3];
+                f[4] += w * h[4];
+                f[5] += w * (wj + hv[2][1] * oz);
+              }
             }
           }
         }
@@ -297,7 +395,28 @@ void MpmSolver::phase_p2g(Real dt) {
   }
 }
 
+void MpmSolver::phase_p2g(Real dt) {
+  ScopedPhase t(timers_, t_p2g_);
+  if (thermal()) {
+    p2g<true>(dt);
+    // What the boundary terms put in this step (spec 4.2, 4.3 bookkeeping).
+    const Real dtb = dt * setup_.settings.bake_time_scale;
+    // (implicit heat books the energy its solve puts in)
+    if (setup_.settings.heat == HeatMethod::explicit_) budget_.heat_in += dtb * deterministic_sum(x_.size(), [&](std::size_t i) { return heat_src_[i]; });
+    budget_.evaporated -= dtb * deterministic_sum(x_.size(), [&](std::size_t i) { return water_src_[i]; });
+  } else {
+    p2g<false>(dt);
+  }
+}
+
 // Spec 4.4: v_i = (m v)_i / m_i + Δt g, then the collider conditions.
+// With heat (spec 4.2, 4.3, 4.6): θ_i = E_i / M_i advanced by the explicit
+// rate, Δθ_i kept for the FLIP transfer; the boundary area of the node
+// a_i = Δx³ |∇φ|, φ = V_i / Δx³ by central differences (Σ a_i is the surface
+// area for any smooth profile of φ), exchanging with a hot collider within
+// 1.5 Δx of the node, else with the air; water: the ratio r_i = Δt ΔW_i / W_i,
+// never below −1 (water is never negative; what was asked beyond that is
+// counted as clamped), and the saturation s_i for the next flux.
 void MpmSolver::phase_grid(Real dt) {
   ScopedPhase t(timers_, t_grid_);
   const Vec3 origin = setup_.domain.min;
@@ -308,31 +427,85 @@ void MpmSolver::phase_grid(Real dt) {
   // Collider poses at the end of the step, where the nodes' new velocities take the material.
   collider_poses_.resize(setup_.colliders.size());
   for (std::size_t ci = 0; ci < setup_.colliders.size(); ++ci) collider_poses_[ci] = setup_.colliders[ci].motion.at(time_ + dt);
-  parallel_for(grid_.size(), [&](std::size_t k) {
-    Node& node = grid_[k];
-    if (node.mass <= 0) return;
-    Vec3 v = Vec3(node.mv[0], node.mv[1], node.mv[2]) / node.mass + dt * g;
-    const Vec3 xi = origin + dx_ * Vec3(Real(k / syz), Real((k / nz) % ny_), Real(k % nz));
-    for (std::size_t ci = 0; ci < setup_.colliders.size(); ++ci) {
-      const GridCollider& c = setup_.colliders[ci];
-      const RigidPose& pose = collider_poses_[ci];
-      const WallContact w = signed_distance(c.collider.geometry, pose.to_rest(xi));
-      if (w.distance > 0) continue;
-      const Vec3 vc = pose.velocity_at(xi);
-      Vec3 rel = v - vc;
-      apply_contact(rel, pose.rotation * w.normal, c.contact, c.friction);
-      v = rel + vc;
-    }
-    for_each_wall(walls, xi, 0.0, [&](const WallContact& w) { apply_contact(v, w.normal, Contact::separate, setup_.domain_friction); });
-    node.mv[0] = v.x(), node.mv[1] = v.y(), node.mv[2] = v.z();
-  }, 4096);
+  const bool heat = thermal();
+  const Settings& st = setup_.settings;
+  const Real dtb = dt * st.bake_time_scale, bake_t = (time_ + dt) * st.bake_time_scale;
+  const Real air_t = setup_.air_temperature(bake_t), air_beta = setup_.heat_transfer_coefficient;
+  std::vector<Real> collider_t(setup_.colliders.size(), 0);
+  for (std::size_t ci = 0; ci < setup_.colliders.size(); ++ci)
+    if (setup_.colliders[ci].collider.temperature) collider_t[ci] = (*setup_.colliders[ci].collider.temperature)(bake_t);
+  const Real inv_rho_w = 1.0 / Moisture{}.water_density;
+  const Real clamped = deterministic_reduce(
+      grid_.size(), Real(0),
+      [&](std::size_t kb, std::size_t ke) {
+        Real clamp_sum = 0;
+        for (std::size_t k = kb; k < ke; ++k) {
+          Node& node = grid_[k];
+          if (node.mass <= 0) continue;
+          Vec3 v = Vec3(node.mv[0], node.mv[1], node.mv[2]) / node.mass + dt * g;
+          const Vec3 xi = origin + dx_ * Vec3(Real(k / syz), Real((k / nz) % ny_), Real(k % nz));
+          Real beta = air_beta, ambient = air_t;
+          bool air = true;
+          for (std::size_t ci = 0; ci < setup_.colliders.size(); ++ci) {
+            const GridCollider& c = setup_.colliders[ci];
+            const RigidPose& pose = collider_poses_[ci];
+            const WallContact w = signed_distance(c.collider.geometry, pose.to_rest(xi));
+            if (heat && air && c.collider.temperature && w.distance < 1.5 * dx_) {
+              beta = c.collider.heat_transfer_coefficient, ambient = collider_t[ci], air = false;
+            }
+            if (w.distance > 0) continue;
+            const Vec3 vc = pose.velocity_at(xi);
+            Vec3 rel = v - vc;
+            apply_contact(rel, pose.rotation * w.normal, c.contact, c.friction);
+            v = rel + vc;
+          }
+          for_each_wall(walls, xi, 0.0, [&](const WallContact& w) { apply_contact(v, w.normal, Contact::separate, setup_.domain_friction); });
+          node.mv[0] = v.x(), node.mv[1] = v.y(), node.mv[2] = v.z();
+          if (!heat) continue;
+          Real* f = heat_grid_[k].f;
+          const Real volume = f[4];
+          if (!(f[0] > 0) || !(volume > 0)) {
+            for (int q = 0; q < 8; ++q) f[q] = q == 4 ? volume : 0;
+            continue;
+          }
+          // Central differences of V over 2Δx give Δx³ ∇φ (neighbours always exist: material stays 2 cells inside).
+          const Real gx = heat_grid_[k + syz].f[4] - heat_grid_[k - syz].f[4];
+          const Real gy = heat_grid_[k + nz].f[4] - heat_grid_[k - nz].f[4];
+          const Real gz = heat_grid_[k + 1].f[4] - heat_grid_[k - 1].f[4];
+          const Real area_per_volume = 0.5 * inv_dx_ * std::sqrt(gx * gx + gy * gy + gz * gz) / volume;
+          if (!implicit_mass_.empty()) implicit_mass_[k] = f[0];
+          const Real theta = f[1] / f[0], dtheta = dtb * f[2] / f[0];
+          Real ratio = 0, sat = 0;
+          if (f[3] > 0) {
+            ratio = dtb * f[5] / f[3];
+            if (ratio < -1) clamp_sum += (-1 - ratio) * f[3], ratio = -1;
+            sat = (1 + ratio) * f[3] * inv_rho_w / volume;
+          }
+          f[0] = dtheta;
+          f[1] = theta + dtheta;
+          f[2] = area_per_volume * beta;
+          f[3] = area_per_volume * beta * ambient;
+          f[5] = ratio;
+          f[6] = sat;
+          f[7] = air ? area_per_volume : 0;
+        }
+        return clamp_sum;
+      },
+      [](Real a, Real b) { return a + b; });
+  if (heat) {
+    budget_.clamped += clamped;
+    budget_.evaporated -= clamped;
+  }
 }
 
 // Spec 4.5: v_p = Σ w v_i, C_p = D⁻¹ Σ w v_i (x_i − x_p)ᵀ (D = Δx²/4 for
 // quadratic B-splines); C_p is also the MLS velocity gradient, so the trial
 // F = (I + Δt C_p) F; x += Δt v_p.
-void MpmSolver::phase_g2p(Real dt) {
-  ScopedPhase t(timers_, t_g2p_);
+// With heat: θ_p += Σ w Δθ_i (FLIP), ∇θ_p = D⁻¹ Σ w θ_i (x_i − x_p) and
+// ∇s_p likewise for the next step's fluxes, m_w ← m_w (1 + Σ w r_i)
+// (spec 4.2), and the particle's share of the boundary: S β = V_p Σ w k_i.
+template <bool kThermal>
+void MpmSolver::g2p(Real dt) {
   const Vec3 origin = setup_.domain.min;
   const std::size_t nz = nz_, syz = std::size_t(ny_) * nz_;
   const Real d_inv = 4.0 * inv_dx_;  // D⁻¹ (x_i − x_p) with offsets in cells: 4/Δx² · Δx
@@ -341,11 +514,15 @@ void MpmSolver::phase_g2p(Real dt) {
     const Axis ax = axis_weights(g.x()), ay = axis_weights(g.y()), az = axis_weights(g.z());
     Real v[3] = {0, 0, 0};
     Real b[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};  // b[col][row] = Σ w v_row offset_col
+    // Thermal gathers: Σ w of {Δθ, k, kθ, r, k_air} and Σ w o of {θ_new, s}.
+    Real hs[5] = {0, 0, 0, 0, 0}, hg[3][2] = {{0, 0}, {0, 0}, {0, 0}};
     for (int i = 0; i < 3; ++i) {
       Real vi[3] = {0, 0, 0}, bi[2][3] = {{0, 0, 0}, {0, 0, 0}};  // Σ over j, k at this i
+      Real hsi[5] = {0, 0, 0, 0, 0}, hgi[3][2] = {{0, 0}, {0, 0}, {0, 0}};
       for (int j = 0; j < 3; ++j) {
         const Real oy = j - ay.frac;
-        const Node* row = &grid_[std::size_t(ax.base + i) * syz + std::size_t(ay.base + j) * nz + az.base];
+        const std::size_t row_index = std::size_t(ax.base + i) * syz + std::size_t(ay.base + j) * nz + az.base;
+        const Node* row = &grid_[row_index];
         Real vj[3] = {0, 0, 0}, bz[3] = {0, 0, 0};
         for (int kk = 0; kk < 3; ++kk) {
           const Real w = az.w[kk], oz = kk - az.frac;
@@ -361,6 +538,23 @@ void MpmSolver::phase_g2p(Real dt) {
           bi[0][r] += wy * vj[r] * oy;
           bi[1][r] += wy * bz[r];
         }
+        if constexpr (kThermal) {
+          const HeatNode* hrow = &heat_grid_[row_index];
+          Real sj[5] = {0, 0, 0, 0, 0}, tj[2] = {0, 0}, tz[2] = {0, 0};
+          for (int kk = 0; kk < 3; ++kk) {
+            const Real w = az.w[kk], oz = kk - az.frac;
+            const Real* f = hrow[kk].f;
+            sj[0] += w * f[0], sj[1] += w * f[2], sj[2] += w * f[3], sj[3] += w * f[5], sj[4] += w * f[7];
+            tj[0] += w * f[1], tj[1] += w * f[6];
+            tz[0] += w * f[1] * oz, tz[1] += w * f[6] * oz;
+          }
+          for (int q = 0; q < 5; ++q) hsi[q] += wy * sj[q];
+          for (int q = 0; q < 2; ++q) {
+            hgi[0][q] += wy * tj[q];       // carried to x below
+            hgi[1][q] += wy * tj[q] * oy;
+            hgi[2][q] += wy * tz[q];
+          }
+        }
       }
       const Real wx = ax.w[i], ox = i - ax.frac;
       for (int r = 0; r < 3; ++r) {
@@ -368,6 +562,14 @@ void MpmSolver::phase_g2p(Real dt) {
         b[0][r] += wx * vi[r] * ox;
         b[1][r] += wx * bi[0][r];
         b[2][r] += wx * bi[1][r];
+      }
+      if constexpr (kThermal) {
+        for (int q = 0; q < 5; ++q) hs[q] += wx * hsi[q];
+        for (int q = 0; q < 2; ++q) {
+          hg[0][q] += wx * hgi[0][q] * ox;
+          hg[1][q] += wx * hgi[1][q];
+          hg[2][q] += wx * hgi[2][q];
+        }
       }
     }
     const Vec3 vp(v[0], v[1], v[2]);
@@ -380,39 +582,229 @@ void MpmSolver::phase_g2p(Real dt) {
     set_deformation_gradient(p, df * deformation_gradient(p));
     j_[p] *= df.determinant();
     x_[p] += dt * vp;
+    if constexpr (kThermal) {
+      const Real volume = j_[p] * volume0_[p];
+      temperature_[p] += hs[0];
+      exchange_[p] = volume * hs[1];
+      exchange_t_[p] = volume * hs[2];
+      water_[p] *= 1 + hs[3];
+      air_area_[p] = volume * hs[4];
+      grad_theta_[p] = d_inv * Vec3(hg[0][0], hg[1][0], hg[2][0]);
+      grad_s_[p] = d_inv * Vec3(hg[0][1], hg[1][1], hg[2][1]);
+    }
   }, 1024);
 }
 
-// Spec 3.1–3.2: the return mapping of each material's plastic law on the trial
-// F^E, then the Kirchhoff stress for the next P2G. One dispatch per material.
+void MpmSolver::phase_g2p(Real dt) {
+  ScopedPhase t(timers_, t_g2p_);
+  if (thermal()) g2p<true>(dt);
+  else g2p<false>(dt);
+}
+
+// Spec 3.1–3.4: per material group, the gelatinization flag and the
+// temperature-dependent τ_y(θ), η(θ); CO2 generation (3.3); the return mapping
+// of the plastic law on the trial F^E; the Kirchhoff stress
+// τ = τ_E − J (c λ (θ − θ_ref) + P_g + ξ (s − s₀)) I for the next P2G; the
+// cooling by thermal expansion −c λ θ_K ∇·v / (ρ c) (spec 2, on the particle);
+// and the heat and water terms of the next P2G (spec 4.2, 4.3).
 void MpmSolver::phase_plasticity(Real dt) {
   ScopedPhase t(timers_, t_plastic_);
+  const Settings& st = setup_.settings;
+  const bool heat = thermal(), mixture = heat && !st.baseline;
+  const Real dtb = dt * st.bake_time_scale;
+  const Real flux_scale = 4.0 * inv_dx_;
   for (std::size_t mi = 0; mi < setup_.materials.size(); ++mi) {
     const Material& mat = setup_.materials[mi];
+    const bool gas = mixture && mat.gas.active(), wet = mixture && mat.water.active();
+    const Real expansion = mat.thermal_expansion * mat.lame.lambda;
     std::visit([&](const auto& elastic) {
-      std::visit([&](const auto& plastic) {
-        using P = std::decay_t<decltype(plastic)>;
+      std::visit([&](const auto& plastic_law) {
+        using P = std::decay_t<decltype(plastic_law)>;
         const std::vector<std::uint32_t>& members = material_members_[mi];
         parallel_for(members.size(), [&](std::size_t k) {
           const std::size_t i = members[k];
+          const Real theta = temperature_[i];
           Mat3 f = deformation_gradient(i);
           Svd3 s = svd3(f);
           if constexpr (!std::is_same_v<P, NoPlasticity>) {
+            P law = plastic_law;
+            if (heat && mat.setting) {
+              if (theta >= mat.setting->set_temperature) gelatinized_[i] = 1;
+              const Real te = mat.setting->effective_temperature(theta, gelatinized_[i] != 0);
+              law.yield_stress = mat.setting->yield_stress(te);
+              law.viscosity = mat.setting->viscosity(te);
+            }
+            if constexpr (std::is_same_v<P, CamClay>)
+              if (heat && st.baseline) law.cohesion_slope = 0;  // baseline: no porosity in the yield surface
             const Vec3 trial = s.sigma;
-            s = return_map(plastic, mat.lame, dt, jp_[i], s);
+            s = return_map(law, mat.lame, dt, jp_[i], s);
             if (s.sigma != trial) {
               f = compose(s);
               set_deformation_gradient(i, f);
             }
             jp_[i] = j_[i] / s.sigma.prod();
           }
-          const Mat3 tau = kirchhoff_stress(elastic, f, s);
+          Mat3 tau = kirchhoff_stress(elastic, f, s);
+          if (heat) {
+            const Real j = j_[i], volume = j * volume0_[i];
+            Real kirchhoff_pressure = 0;
+            if (expansion != 0) {
+              const Real theta_ref = setup_.bodies[body_[i]].temperature;
+              kirchhoff_pressure += j * expansion * (theta - theta_ref);
+              // Spec 2: ρ c Dθ/Dt = −c λ θ_K ∇·v (mechanical time; ∇·v = tr C).
+              const Real div_v = c0_[i].x() + c1_[i].y() + c2_[i].z();
+              temperature_[i] -= dt * expansion * (theta + kZeroCelsius) * div_v * volume / heat_capacity_[i];
+            }
+            if (gas) {
+              co2_[i] += dtb * mat.gas.generation_rate(theta, mat.density);
+              const Real jp_gas = Leavening::kirchhoff_pressure(co2_[i], theta, gas_porosity(jp_[i], mat.initial_porosity));
+              gas_pressure_[i] = jp_gas / j;
+              kirchhoff_pressure += jp_gas;
+            }
+            Real sat = 0;
+            if (wet) {
+              sat = water_[i] / (mat.water.water_density * volume);
+              saturation_[i] = sat;
+              kirchhoff_pressure += j * mat.water.pressure(sat);
+              water_src_[i] = -mat.water.evaporation_flux(theta, sat) * air_area_[i];
+              water_vec_[i] = -(volume * mat.water.diffusion_coefficient(theta) * mat.water.water_density * flux_scale) * grad_s_[i];
+            }
+            tau.diagonal().array() -= kirchhoff_pressure;
+            heat_src_[i] = exchange_t_[i] - exchange_[i] * temperature_[i];
+            heat_vec_[i] = -(volume * mat.conductivity * flux_scale) * grad_theta_[i];
+          }
           tau_diag_[i] = tau.diagonal();
           tau_off_[i] = Vec3(tau(0, 1), tau(0, 2), tau(1, 2));
         }, 1024);
       }, mat.plastic);
     }, mat.elastic);
   }
+}
+
+// Spec 4.3 with γ = 1: (M/Δt + K + R) θ = (M/Δt) θⁿ + b, K the weak-form
+// conduction Σ_p V κ ∇w_ip ∇w_jpᵀ, R the boundary exchange Σ_p S β w_ip w_jp
+// (both symmetric positive semi-definite, so the matrix is SPD), solved
+// matrix-free by Jacobi-preconditioned conjugate gradients over the nodes
+// with heat capacity.
+void MpmSolver::phase_heat_implicit(Real dt) {
+  ScopedPhase t(timers_, t_heat_);
+  const Real dtb = dt * setup_.settings.bake_time_scale;
+  const std::size_t nodes = heat_grid_.size(), n = x_.size();
+  const Vec3 origin = setup_.domain.min;
+  const std::size_t nz = nz_, syz = std::size_t(ny_) * nz_;
+  const Real gscale = 4.0 * inv_dx_;
+  std::vector<Real>& mass = implicit_mass_;
+  // Particle-to-node operator: y_i = Σ_p w (a_p + g_p · o), per colour so no two threads share a node.
+  auto scatter = [&](std::vector<Real>& y, auto&& particle_terms) {
+    for (const auto& blocks : colour_blocks_) {
+      parallel_for(blocks.size(), [&](std::size_t bi) {
+        const std::uint32_t b = blocks[bi];
+        for (std::uint32_t k = block_start_[b]; k < block_start_[b + 1]; ++k) {
+          const std::uint32_t p = order_[k];
+          const Vec3 g = (x_[p] - origin) * inv_dx_;
+          const Axis ax = axis_weights(g.x()), ay = axis_weights(g.y()), az = axis_weights(g.z());
+          Real a;
+          Vec3 gv;
+          Real diag_a, diag_g;
+          particle_terms(p, ax, ay, az, a, gv, diag_a, diag_g);
+          for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j) {
+              const std::size_t row = std::size_t(ax.base + i) * syz + std::size_t(ay.base + j) * nz + az.base;
+              for (int kk = 0; kk < 3; ++kk) {
+                const Vec3 o(i - ax.frac, j - ay.frac, kk - az.frac);
+                const Real w = ax.w[i] * ay.w[j] * az.w[kk];
+                y[row + kk] += w * (a + gv.dot(o)) + w * w * (diag_a + diag_g * o.squaredNorm());
+              }
+            }
+        }
+      }, 1);
+    }
+  };
+  auto gather = [&](const std::vector<Real>& x, const Axis& ax, const Axis& ay, const Axis& az, Real& value, Vec3& grad) {
+    value = 0;
+    grad.setZero();
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        const std::size_t row = std::size_t(ax.base + i) * syz + std::size_t(ay.base + j) * nz + az.base;
+        for (int kk = 0; kk < 3; ++kk) {
+          const Real w = ax.w[i] * ay.w[j] * az.w[kk], xv = x[row + kk];
+          value += w * xv;
+          grad += (w * xv) * Vec3(i - ax.frac, j - ay.frac, kk - az.frac);
+        }
+      }
+    grad *= gscale;
+  };
+  auto conductance = [&](std::uint32_t p) { return j_[p] * volume0_[p] * setup_.materials[material_[p]].conductivity; };
+  // A x restricted to the active nodes.
+  auto apply = [&](const std::vector<Real>& x, std::vector<Real>& y) {
+    parallel_for(nodes, [&](std::size_t k) { y[k] = mass[k] > 0 ? mass[k] / dtb * x[k] : 0; }, 1 << 14);
+    scatter(y, [&](std::uint32_t p, const Axis& ax, const Axis& ay, const Axis& az, Real& a, Vec3& gv, Real& da, Real& dg) {
+      Real value;
+      Vec3 grad;
+      gather(x, ax, ay, az, value, grad);
+      a = exchange_[p] * value;
+      gv = conductance(p) * gscale * grad;
+      da = dg = 0;
+    });
+  };
+  std::vector<Real> rhs(nodes, 0), diag(nodes, 0), x(nodes, 0), r(nodes), z(nodes), d(nodes), q(nodes);
+  // Right-hand side and the Jacobi diagonal.
+  scatter(rhs, [&](std::uint32_t p, const Axis&, const Axis&, const Axis&, Real& a, Vec3& gv, Real& da, Real& dg) {
+    a = exchange_t_[p];
+    gv.setZero();
+    da = dg = 0;
+  });
+  scatter(diag, [&](std::uint32_t p, const Axis&, const Axis&, const Axis&, Real& a, Vec3& gv, Real& da, Real& dg) {
+    a = 0;
+    gv.setZero();
+    da = exchange_[p];
+    dg = conductance(p) * gscale * gscale;
+  });
+  parallel_for(nodes, [&](std::size_t k) {
+    if (mass[k] > 0) {
+      const Real theta_n = heat_grid_[k].f[1] - heat_grid_[k].f[0];
+      rhs[k] += mass[k] / dtb * theta_n;
+      diag[k] += mass[k] / dtb;
+      x[k] = theta_n;
+    } else {
+      rhs[k] = 0, diag[k] = 1;
+    }
+  }, 1 << 14);
+  auto dot = [&](const std::vector<Real>& a, const std::vector<Real>& b) {
+    return deterministic_sum(nodes, [&](std::size_t k) { return a[k] * b[k]; });
+  };
+  apply(x, q);
+  parallel_for(nodes, [&](std::size_t k) { r[k] = mass[k] > 0 ? rhs[k] - q[k] : 0; z[k] = r[k] / diag[k]; d[k] = z[k]; }, 1 << 14);
+  Real rz = dot(r, z);
+  const Real rhs_norm = std::sqrt(dot(rhs, rhs));
+  int it = 0;
+  for (; it < setup_.settings.heat_max_iterations && std::sqrt(dot(r, r)) > setup_.settings.heat_tolerance * rhs_norm; ++it) {
+    apply(d, q);
+    const Real alpha = rz / dot(d, q);
+    parallel_for(nodes, [&](std::size_t k) { x[k] += alpha * d[k]; r[k] -= alpha * q[k]; z[k] = r[k] / diag[k]; }, 1 << 14);
+    const Real rz_new = dot(r, z);
+    const Real beta = rz_new / rz;
+    rz = rz_new;
+    parallel_for(nodes, [&](std::size_t k) { d[k] = z[k] + beta * d[k]; }, 1 << 14);
+  }
+  heat_iterations_ = it;
+  const Real energy = deterministic_reduce(
+      nodes, Real(0),
+      [&](std::size_t b, std::size_t e) {
+        Real sum = 0;
+        for (std::size_t k = b; k < e; ++k) {
+          if (!(mass[k] > 0)) continue;
+          Real* f = heat_grid_[k].f;
+          const Real theta_n = f[1] - f[0];
+          f[0] = x[k] - theta_n;
+          f[1] = x[k];
+          sum += mass[k] * f[0];
+        }
+        return sum;
+      },
+      [](Real a, Real b) { return a + b; });
+  budget_.heat_in += energy;
+  (void)n;
 }
 
 void MpmSolver::check_state() {
@@ -422,14 +814,23 @@ void MpmSolver::check_state() {
       n, n,
       [&](std::size_t b, std::size_t e) {
         for (std::size_t i = b; i < e; ++i)
-          if (!x_[i].allFinite() || !v_[i].allFinite() || !(j_[i] > 0) || !setup_.domain.contains(x_[i])) return i;
+          if (!x_[i].allFinite() || !v_[i].allFinite() || !(j_[i] > 0) || !setup_.domain.contains(x_[i]) ||
+              !std::isfinite(temperature_[i]) || !(water_[i] >= 0))
+            return i;
         return n;
       },
       [](std::size_t a, std::size_t b) { return std::min(a, b); });
   if (bad == n) return;
-  const char* what = !x_[bad].allFinite() ? "position" : !v_[bad].allFinite() ? "velocity" : !(j_[bad] > 0) ? "J (volume ratio)" : "position (left the domain)";
-  throw SimulationError(fmt::format("mpm step {} (t = {:.6g} s): particle {} has an invalid {}: x = ({:.4g}, {:.4g}, {:.4g}), v = ({:.4g}, {:.4g}, {:.4g}), J = {:.4g}",
-                                    steps_, time_, id_[bad], what, x_[bad].x(), x_[bad].y(), x_[bad].z(), v_[bad].x(), v_[bad].y(), v_[bad].z(), j_[bad]));
+  const char* what = !x_[bad].allFinite()               ? "position"
+                     : !v_[bad].allFinite()             ? "velocity"
+                     : !(j_[bad] > 0)                   ? "J (volume ratio)"
+                     : !setup_.domain.contains(x_[bad]) ? "position (left the domain)"
+                     : !std::isfinite(temperature_[bad]) ? "temperature"
+                                                         : "water mass";
+  throw SimulationError(fmt::format("mpm step {} (t = {:.6g} s): particle {} has an invalid {}: x = ({:.4g}, {:.4g}, {:.4g}), v = ({:.4g}, {:.4g}, {:.4g}), J = {:.4g}, "
+                                    "temperature = {:.4g} degC, water = {:.4g} kg",
+                                    steps_, time_, id_[bad], what, x_[bad].x(), x_[bad].y(), x_[bad].z(), v_[bad].x(), v_[bad].y(), v_[bad].z(), j_[bad],
+                                    temperature_[bad], water_[bad]));
 }
 
 std::vector<Real> MpmSolver::sample(const Vec3& x, const std::vector<std::string>& quantities) const {
@@ -452,13 +853,80 @@ std::vector<Real> MpmSolver::sample(const Vec3& x, const std::vector<std::string
     else if (q == "velocity_y") out.push_back(v_[best].y());
     else if (q == "velocity_z") out.push_back(v_[best].z());
     else if (q == "J") out.push_back(j_[best]);
+    else if (q == "saturation") out.push_back(saturation_[best]);
+    else if (q == "water_mass") out.push_back(water_[best]);
+    else if (q == "co2") out.push_back(co2_[best]);
+    else if (q == "gas_pressure") out.push_back(gas_pressure_[best]);
+    else if (q == "plastic_J") out.push_back(jp_[best]);
     else throw InputError("probes", "unknown probe quantity '" + q + "' for the MPM solver");
   }
   return out;
 }
 
 std::vector<std::string> MpmSolver::probe_quantities() const {
-  return {"temperature", "speed", "velocity_x", "velocity_y", "velocity_z", "J"};
+  return {"temperature", "speed", "velocity_x", "velocity_y", "velocity_z", "J", "plastic_J", "saturation", "water_mass", "co2", "gas_pressure"};
+}
+
+Real MpmSolver::total_water() const {
+  return deterministic_sum(x_.size(), [&](std::size_t i) { return water_[i]; });
+}
+
+Real MpmSolver::total_co2() const {
+  return deterministic_sum(x_.size(), [&](std::size_t i) { return co2_[i] * volume0_[i]; });
+}
+
+Real MpmSolver::total_heat_energy() const {
+  return deterministic_sum(x_.size(), [&](std::size_t i) { return heat_capacity_[i] * temperature_[i]; });
+}
+
+// Per body: the coldest temperature (the core when heated from outside), the
+// air-facing-area-weighted surface ("crust") temperature, water mass and the
+// share lost, CO2 produced; and the totals of the budget.
+std::vector<std::pair<std::string, Real>> MpmSolver::frame_quantities() const {
+  std::vector<std::pair<std::string, Real>> out;
+  if (!thermal()) return out;
+  struct Acc {
+    Real tmin = std::numeric_limits<Real>::infinity(), area = 0, area_t = 0, water = 0, co2 = 0;
+  };
+  const std::size_t nb = setup_.bodies.size();
+  const std::vector<Acc> acc = deterministic_reduce(
+      x_.size(), std::vector<Acc>(nb),
+      [&](std::size_t b, std::size_t e) {
+        std::vector<Acc> a(nb);
+        for (std::size_t i = b; i < e; ++i) {
+          Acc& s = a[body_[i]];
+          s.tmin = std::min(s.tmin, temperature_[i]);
+          s.area += air_area_[i];
+          s.area_t += air_area_[i] * temperature_[i];
+          s.water += water_[i];
+          s.co2 += co2_[i] * volume0_[i];
+        }
+        return a;
+      },
+      [](std::vector<Acc> a, const std::vector<Acc>& b) {
+        for (std::size_t k = 0; k < a.size(); ++k) {
+          a[k].tmin = std::min(a[k].tmin, b[k].tmin);
+          a[k].area += b[k].area;
+          a[k].area_t += b[k].area_t;
+          a[k].water += b[k].water;
+          a[k].co2 += b[k].co2;
+        }
+        return a;
+      });
+  const Real nan = std::numeric_limits<Real>::quiet_NaN();
+  for (std::size_t b = 0; b < nb; ++b) {
+    const std::string& name = setup_.bodies[b].name;
+    out.emplace_back("core_temperature:" + name, acc[b].tmin);
+    out.emplace_back("crust_temperature:" + name, acc[b].area > 0 ? acc[b].area_t / acc[b].area : nan);
+    out.emplace_back("water:" + name, acc[b].water);
+    out.emplace_back("moisture_loss_percent:" + name,
+                     initial_body_water_[b] > 0 ? 100.0 * (1 - acc[b].water / initial_body_water_[b]) : 0.0);
+    out.emplace_back("co2_mol:" + name, acc[b].co2);
+  }
+  out.emplace_back("water_total", total_water());
+  out.emplace_back("water_evaporated", budget_.evaporated);
+  out.emplace_back("heat_in", budget_.heat_in);
+  return out;
 }
 
 }  // namespace bakesim::mpm

@@ -4,6 +4,7 @@
 // squares force and velocity gradient of MLS-MPM (Hu et al. 2018; departure
 // noted in docs/physics.md), explicit grid update, finite-strain
 // elastoplasticity on the particles, colliders on the grid.
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -14,6 +15,7 @@
 #include "geometry/motion.hpp"
 #include "geometry/shapes.hpp"
 #include "mpm/constitutive.hpp"
+#include "physics/mixture.hpp"
 
 namespace bakesim::mpm {
 
@@ -23,6 +25,14 @@ struct Material {
   Lame lame{};
   ElasticLaw elastic = Hencky{};
   PlasticLaw plastic = NoPlasticity{};
+  // Thermomechanics (spec 2–3).
+  Real specific_heat = 2800;     // c_v, J/(kg K)
+  Real conductivity = 0.4;       // κ, W/(m K)
+  Real thermal_expansion = 0;    // c of σ_s = τ/J − c λ (θ − θ_ref) I, 1/K
+  Real initial_porosity = 0;     // n₀ of the gas porosity
+  Moisture water;
+  Leavening gas;
+  std::optional<SettingCurves> setting;  // temperature-dependent τ_y, η (Hencky + plasticity only)
 };
 
 struct Body {
@@ -45,7 +55,16 @@ struct GridCollider {
   RigidMotion motion;
 };
 
+enum class HeatMethod { off, explicit_, implicit };
+
 struct Settings {
+  HeatMethod heat = HeatMethod::off;
+  // Stomakhin et al. 2014 baseline: heat and temperature-dependent plasticity
+  // only (no gas, no water, no porosity in the yield surface).
+  bool baseline = false;
+  Real bake_time_scale = 1;    // bake seconds per simulated second (heat, water, gas)
+  Real heat_tolerance = 1e-8;  // implicit heat: relative residual of the conjugate gradients
+  int heat_max_iterations = 200;
   Real cell_size = 0.01;       // Δx, m
   int particles_per_cell = 8;  // initial sampling: a lattice of ppc^(1/3) per axis
   Real cfl = 0.4;
@@ -61,6 +80,17 @@ struct Setup {
   Aabb domain;
   Real domain_friction = 0.0;  // Coulomb μ of the domain walls (separating contact)
   Vec3 gravity = Vec3(0, -9.81, 0);
+  PiecewiseLinear air_temperature = PiecewiseLinear::constant(20);  // °C over bake time
+  Real heat_transfer_coefficient = 10;  // β of the air, W/(m² K)
+};
+
+// Running totals of the mixture (bake time, SI units).
+struct MixtureBudget {
+  Real initial_water = 0;    // kg
+  Real evaporated = 0;       // kg that left through the boundary
+  Real clamped = 0;          // kg the evaporation asked for beyond what a node held (not removed)
+  Real heat_in = 0;          // J through the boundary (air and hot colliders)
+  Real co2_generated = 0;    // mol
 };
 
 class MpmSolver final : public Solver {
@@ -90,6 +120,14 @@ class MpmSolver final : public Solver {
   // B-splines' partition of unity).
   Real grid_mass() const;
   Real cell_size() const { return dx_; }
+  bool thermal() const { return setup_.settings.heat != HeatMethod::off; }
+  Real bake_time() const { return time_ * setup_.settings.bake_time_scale; }
+  const MixtureBudget& budget() const { return budget_; }
+  int heat_iterations() const { return heat_iterations_; }
+  Real total_water() const;
+  Real total_co2() const;        // mol
+  Real total_heat_energy() const;  // Σ m c θ, J (θ in °C)
+  std::vector<std::pair<std::string, Real>> frame_quantities() const override;
 
  private:
   void build_particles();
@@ -98,7 +136,10 @@ class MpmSolver final : public Solver {
   void phase_grid(Real dt);
   void phase_g2p(Real dt);
   void phase_plasticity(Real dt);
+  void phase_heat_implicit(Real dt);
   void check_state();
+  template <bool kThermal> void p2g(Real dt);
+  template <bool kThermal> void g2p(Real dt);
 
   Setup setup_;
   ParticleSet particles_;
@@ -118,6 +159,22 @@ class MpmSolver final : public Solver {
   std::vector<Vec3>& c2_;
   std::vector<Vec3>& tau_diag_;  // Kirchhoff τ for the next P2G: τ_xx, τ_yy, τ_zz
   std::vector<Vec3>& tau_off_;   // τ_xy, τ_xz, τ_yz
+  // Thermomechanics: state, then the per-step transfer terms (hidden).
+  std::vector<Real>& heat_capacity_;  // m c, J/K
+  std::vector<Real>& water_;          // m_w, kg
+  std::vector<Real>& saturation_;     // s
+  std::vector<Real>& co2_;            // n_g, mol per m³ of initial volume
+  std::vector<Real>& gas_pressure_;   // P_g, Pa
+  std::vector<std::int32_t>& gelatinized_;
+  std::vector<Vec3>& grad_theta_;     // ∇θ from the grid, K/m
+  std::vector<Vec3>& grad_s_;         // ∇s from the grid, 1/m
+  std::vector<Real>& exchange_;       // Σ S β over the particle's boundary share, W/K
+  std::vector<Real>& exchange_t_;     // Σ S β θ_amb, W
+  std::vector<Real>& air_area_;       // area facing the air (evaporation), m²
+  std::vector<Real>& heat_src_;       // P2G heat terms: scalar S β (θ_amb − θ), W
+  std::vector<Vec3>& heat_vec_;       //   and −V κ ∇θ · 4/Δx, W
+  std::vector<Real>& water_src_;      // P2G water terms: −evaporation, kg/s
+  std::vector<Vec3>& water_vec_;      //   and V q_w · 4/Δx, kg/s
   std::vector<std::int32_t>& material_;
   std::vector<std::int32_t>& body_;
   std::vector<std::int32_t>& id_;
@@ -132,6 +189,13 @@ class MpmSolver final : public Solver {
     Real mv[3];
   };
   std::vector<Node> grid_;
+  // Thermal/water node: after P2G {M = Σ w m c, E = Σ w m c θ, Q (heat rate),
+  // W = Σ w m_w, V = Σ w V_p, ΔW (water rate)}; the grid phase turns the slots
+  // into {Δθ, θ_new, k = a β / V, k θ_amb, V, water ratio r, s, a_air / V}.
+  struct HeatNode {
+    Real f[8];
+  };
+  std::vector<HeatNode> heat_grid_;
   // Blocks of kBlock³ cells, coloured 2×2×2 so same-coloured blocks never
   // share a node: P2G runs each colour's blocks in parallel without races.
   static constexpr int kBlock = 4;
@@ -146,7 +210,11 @@ class MpmSolver final : public Solver {
   std::vector<std::vector<std::uint32_t>> material_members_;
   std::vector<RigidPose> collider_poses_;  // per collider, refreshed each grid phase
 
-  std::size_t t_sort_, t_p2g_, t_grid_, t_g2p_, t_plastic_, t_check_;
+  std::size_t t_sort_, t_p2g_, t_grid_, t_g2p_, t_plastic_, t_heat_, t_check_;
+  MixtureBudget budget_;
+  std::vector<Real> implicit_mass_;  // M_i for the implicit heat solve
+  int heat_iterations_ = 0;
+  std::vector<Real> initial_body_water_;
   Real time_ = 0;
   std::size_t steps_ = 0;
   std::string dt_bound_ = "max_dt";
