@@ -414,7 +414,8 @@ void MpmSolver::phase_p2g(Real dt) {
 // rate, Δθ_i kept for the FLIP transfer; the boundary area of the node
 // a_i = Δx³ |∇φ|, φ = V_i / Δx³ by central differences (Σ a_i is the surface
 // area for any smooth profile of φ), exchanging with a hot collider within
-// 1.5 Δx of the node, else with the air; water: the ratio r_i = Δt ΔW_i / W_i,
+// 3 Δx of the node through the part of the area vector Δx³ ∇φ that faces
+// it, and with the air through the rest; water: the ratio r_i = Δt ΔW_i / W_i,
 // never below −1 (water is never negative; what was asked beyond that is
 // counted as clamped), and the saturation s_i for the next flux.
 void MpmSolver::phase_grid(Real dt) {
@@ -444,14 +445,31 @@ void MpmSolver::phase_grid(Real dt) {
           if (node.mass <= 0) continue;
           Vec3 v = Vec3(node.mv[0], node.mv[1], node.mv[2]) / node.mass + dt * g;
           const Vec3 xi = origin + dx_ * Vec3(Real(k / syz), Real((k / nz) % ny_), Real(k % nz));
-          Real beta = air_beta, ambient = air_t;
-          bool air = true;
+          // Area vector Δx³ ∇φ (into the material) by central differences of V over 2Δx
+          // (neighbours always exist: material stays 2 cells inside the grid). The part
+          // facing each hot collider within 3 Δx exchanges with it, the rest with the air
+          // (∇φ reaches 2 Δx into the material; particles rest up to a cell off a wall).
+          // Colliders without a temperature insulate the area facing them.
+          Real* f = heat ? heat_grid_[k].f : nullptr;
+          const bool exchange = heat && f[0] > 0 && f[4] > 0;
+          Vec3 area = Vec3::Zero();
+          if (exchange)
+            area = (0.5 * inv_dx_) * Vec3(heat_grid_[k + syz].f[4] - heat_grid_[k - syz].f[4],
+                                          heat_grid_[k + nz].f[4] - heat_grid_[k - nz].f[4],
+                                          heat_grid_[k + 1].f[4] - heat_grid_[k - 1].f[4]);
+          Real hot_k = 0, hot_kt = 0;  // Σ a_c β_c and Σ a_c β_c θ_c over the hot colliders
           for (std::size_t ci = 0; ci < setup_.colliders.size(); ++ci) {
             const GridCollider& c = setup_.colliders[ci];
             const RigidPose& pose = collider_poses_[ci];
             const WallContact w = signed_distance(c.collider.geometry, pose.to_rest(xi));
-            if (heat && air && c.collider.temperature && w.distance < 1.5 * dx_) {
-              beta = c.collider.heat_transfer_coefficient, ambient = collider_t[ci], air = false;
+            if (exchange && w.distance < 3 * dx_) {
+              const Vec3 n = pose.rotation * w.normal;
+              const Real facing = std::max(Real(0), area.dot(n));
+              area -= facing * n;
+              if (c.collider.temperature) {
+                hot_k += facing * c.collider.heat_transfer_coefficient;
+                hot_kt += facing * c.collider.heat_transfer_coefficient * collider_t[ci];
+              }
             }
             if (w.distance > 0) continue;
             const Vec3 vc = pose.velocity_at(xi);
@@ -462,17 +480,13 @@ void MpmSolver::phase_grid(Real dt) {
           for_each_wall(walls, xi, 0.0, [&](const WallContact& w) { apply_contact(v, w.normal, Contact::separate, setup_.domain_friction); });
           node.mv[0] = v.x(), node.mv[1] = v.y(), node.mv[2] = v.z();
           if (!heat) continue;
-          Real* f = heat_grid_[k].f;
           const Real volume = f[4];
-          if (!(f[0] > 0) || !(volume > 0)) {
+          if (!exchange) {
             for (int q = 0; q < 8; ++q) f[q] = q == 4 ? volume : 0;
             continue;
           }
-          // Central differences of V over 2Δx give Δx³ ∇φ (neighbours always exist: material stays 2 cells inside).
-          const Real gx = heat_grid_[k + syz].f[4] - heat_grid_[k - syz].f[4];
-          const Real gy = heat_grid_[k + nz].f[4] - heat_grid_[k - nz].f[4];
-          const Real gz = heat_grid_[k + 1].f[4] - heat_grid_[k - 1].f[4];
-          const Real area_per_volume = 0.5 * inv_dx_ * std::sqrt(gx * gx + gy * gy + gz * gz) / volume;
+          const Real air_area = area.norm();
+          const Real inv_v = 1.0 / volume;
           if (!implicit_mass_.empty()) implicit_mass_[k] = f[0];
           const Real theta = f[1] / f[0], dtheta = dtb * f[2] / f[0];
           Real ratio = 0, sat = 0;
@@ -483,11 +497,11 @@ void MpmSolver::phase_grid(Real dt) {
           }
           f[0] = dtheta;
           f[1] = theta + dtheta;
-          f[2] = area_per_volume * beta;
-          f[3] = area_per_volume * beta * ambient;
+          f[2] = (hot_k + air_area * air_beta) * inv_v;
+          f[3] = (hot_kt + air_area * air_beta * air_t) * inv_v;
           f[5] = ratio;
           f[6] = sat;
-          f[7] = air ? area_per_volume : 0;
+          f[7] = air_area * inv_v;
         }
         return clamp_sum;
       },
@@ -634,8 +648,13 @@ void MpmSolver::phase_plasticity(Real dt) {
               law.yield_stress = mat.setting->yield_stress(te);
               law.viscosity = mat.setting->viscosity(te);
             }
-            if constexpr (std::is_same_v<P, CamClay>)
+            if constexpr (std::is_same_v<P, CamClay>) {
               if (heat && st.baseline) law.cohesion_slope = 0;  // baseline: no porosity in the yield surface
+              // τ_y is a Cauchy stress: in Kirchhoff stress the surface grows with the
+              // plastic dilation, so gas (whose Kirchhoff pressure n R θ / n_p barely
+              // falls as pores grow) expands a dough to a finite size.
+              law.yield_stress *= jp_[i];
+            }
             const Vec3 trial = s.sigma;
             s = return_map(law, mat.lame, dt, jp_[i], s);
             if (s.sigma != trial) {
