@@ -121,7 +121,7 @@ int main(int argc, char** argv) {
   std::string bench_particles, bench_threads, bench_search = "grid,kdtree", bench_models = "elastic,viscoplastic";
   auto* bench = app.add_subcommand("bench", "Benchmark a solver: SPH dam break or MPM cube (particle-steps per second)");
   bench->add_option("--solver", bench_opt.solver, "sph (dam break) or mpm (cube squashed on the floor)")->check(CLI::IsMember({"sph", "mpm"}));
-  bench->add_option("--model", bench_models, "MPM: comma-separated materials: elastic, viscoplastic");
+  bench->add_option("--model", bench_models, "MPM: comma-separated materials: elastic, viscoplastic, full (the thermomechanical dough: heat, water, gas)");
   bench->add_option("--particles", bench_particles, "Comma-separated particle counts (default 50000,200000 for SPH, 100000,500000 for MPM)");
   bench->add_option("--threads", bench_threads, "Comma-separated thread counts (default: 1 and all)");
   bench->add_option("--search", bench_search, "Comma-separated neighbour searches: grid, kdtree");

@@ -1,5 +1,6 @@
 // A whole MPM step on a cube squashed against the floor (elastic and von
-// Mises viscoplastic), with the time per phase reported as counters.
+// Mises viscoplastic, and the full thermomechanical dough baking on a hot
+// floor), with the time per phase reported as counters.
 // Run: ./build/bench/bakesim_microbench --benchmark_filter=Mpm
 // (threads: TBB's default; limit with taskset or the `bakesim bench --threads`).
 #include <benchmark/benchmark.h>
@@ -27,8 +28,10 @@ void mpm_step(benchmark::State& state, const char* model) {
 
 void BM_MpmStepElastic(benchmark::State& s) { mpm_step(s, "elastic"); }
 void BM_MpmStepViscoplastic(benchmark::State& s) { mpm_step(s, "viscoplastic"); }
+void BM_MpmStepFullModel(benchmark::State& s) { mpm_step(s, "full"); }
 
 }  // namespace
 
 BENCHMARK(BM_MpmStepElastic)->Arg(100000)->Arg(500000)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_MpmStepViscoplastic)->Arg(100000)->Arg(500000)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_MpmStepFullModel)->Arg(200000)->Arg(600000)->Unit(benchmark::kMillisecond);

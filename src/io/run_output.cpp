@@ -41,9 +41,8 @@ std::string num(double v) {
 }
 
 Real particle_quantity(const ParticleSet& ps, std::size_t i, const std::string& q) {
-  if (q == "temperature") return ps.scalar("temperature")[i];
-  if (q == "density") return ps.scalar("density")[i];
-  if (q == "pressure") return ps.scalar("pressure")[i];
+  // Scalars by attribute name (temperature, density, pressure; MPM: J, saturation, co2, ...).
+  if (ps.has(q)) return ps.scalar(q)[i];
   const Vec3& v = ps.vector("velocity")[i];
   if (q == "speed") return v.norm();
   if (q == "velocity_x") return v.x();

@@ -506,7 +506,7 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::s
     const json& pj = doc["probes"][i];
     ProbeSpec p{pj["name"].get<std::string>(), vec3(pj["position"]), pj["quantities"].get<std::vector<std::string>>(),
                 pj["follow"].get<bool>()};
-    if (!setup.domain.contains(p.position)) c.fail(fmt::format("probes[{}].position", i), "lies outside the domain");
+    if (!Aabb{dmin, dmax}.contains(p.position)) c.fail(fmt::format("probes[{}].position", i), "lies outside the domain");
     sc.probes.push_back(std::move(p));
   }
 
