@@ -44,7 +44,7 @@ double plane_wall_centre(double biot, double fourier) {
 // Slab |x| < L, 0 < y, z < W between plates: the two plates normal to `hot_axis`
 // faces get `face` exchange; the other four faces are insulated or closed.
 struct Slab {
-  double L = 0.02, W = 0.024, dx = 0.002;
+  double L = 0.02, W = 0.016, dx = 0.002;
 };
 
 json slab_scene(const Slab& s, json material, json environment, json colliders, const std::string& heat) {
