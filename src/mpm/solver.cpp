@@ -49,6 +49,23 @@ void apply_contact(Vec3& v, const Vec3& n, Contact contact, Real mu) {
   v = vt;
 }
 
+// Calls fn(p, ax, ay, az) for every particle, block colour by block colour:
+// same-coloured blocks never share a node, so scatters need no atomics.
+template <class Fn>
+void for_each_by_colour(const std::vector<std::vector<std::uint32_t>>& colour_blocks, const std::vector<std::uint32_t>& block_start,
+                        const std::vector<std::uint32_t>& order, const std::vector<Vec3>& x, const Vec3& origin, Real inv_dx, Fn&& fn) {
+  for (const auto& blocks : colour_blocks) {
+    parallel_for(blocks.size(), [&](std::size_t bi) {
+      const std::uint32_t b = blocks[bi];
+      for (std::uint32_t k = block_start[b]; k < block_start[b + 1]; ++k) {
+        const std::uint32_t p = order[k];
+        const Vec3 g = (x[p] - origin) * inv_dx;
+        fn(p, axis_weights(g.x()), axis_weights(g.y()), axis_weights(g.z()));
+      }
+    }, 1);
+  }
+}
+
 }  // namespace
 
 MpmSolver::MpmSolver(Setup setup)
@@ -324,75 +341,67 @@ void MpmSolver::p2g(Real dt) {
   const Vec3 origin = setup_.domain.min;
   const std::size_t nz = nz_, syz = std::size_t(ny_) * nz_;
   const Real d_inv = 4.0 * inv_dx_ * inv_dx_;
-  for (const auto& blocks : colour_blocks_) {
-    parallel_for(blocks.size(), [&](std::size_t bi) {
-      const std::uint32_t b = blocks[bi];
-      for (std::uint32_t k = block_start_[b]; k < block_start_[b + 1]; ++k) {
-        const std::uint32_t p = order_[k];
-        const Vec3 g = (x_[p] - origin) * inv_dx_;
-        const Axis ax = axis_weights(g.x()), ay = axis_weights(g.y()), az = axis_weights(g.z());
-        const Real mp = m_[p];
-        // A Δx, so that A (x_i − x_p) = (A Δx) · offset-in-cells.
-        const Real s = -dt * volume0_[p] * d_inv;
-        const Vec3 td = tau_diag_[p], to = tau_off_[p];
-        Real a[3][3];  // a[col][row]
-        const Vec3 cc[3] = {c0_[p], c1_[p], c2_[p]};
-        for (int col = 0; col < 3; ++col)
-          for (int row = 0; row < 3; ++row) a[col][row] = mp * cc[col][row];
-        a[0][0] += s * td.x(), a[1][1] += s * td.y(), a[2][2] += s * td.z();
-        a[1][0] += s * to.x(), a[0][1] += s * to.x();
-        a[2][0] += s * to.y(), a[0][2] += s * to.y();
-        a[2][1] += s * to.z(), a[1][2] += s * to.z();
-        for (int col = 0; col < 3; ++col)
-          for (int row = 0; row < 3; ++row) a[col][row] *= dx_;
-        const Real mv[3] = {mp * v_[p].x(), mp * v_[p].y(), mp * v_[p].z()};
-        // Thermal channels: scalar parts (h) and offset slopes (hv, per axis).
-        Real h[6] = {0, 0, 0, 0, 0, 0}, hv[3][2] = {{0, 0}, {0, 0}, {0, 0}};
-        if constexpr (kThermal) {
-          h[0] = heat_capacity_[p];
-          h[1] = heat_capacity_[p] * temperature_[p];
-          h[2] = heat_src_[p];
-          h[3] = water_[p];
-          h[4] = j_[p] * volume0_[p];
-          h[5] = water_src_[p];
-          for (int d = 0; d < 3; ++d) hv[d][0] = heat_vec_[p][d], hv[d][1] = water_vec_[p][d];
+  for_each_by_colour(colour_blocks_, block_start_, order_, x_, origin, inv_dx_, [&](std::uint32_t p, const Axis& ax, const Axis& ay, const Axis& az) {
+    const Real mp = m_[p];
+    // A Δx, so that A (x_i − x_p) = (A Δx) · offset-in-cells.
+    const Real s = -dt * volume0_[p] * d_inv;
+    const Vec3 td = tau_diag_[p], to = tau_off_[p];
+    Real a[3][3];  // a[col][row]
+    const Vec3 cc[3] = {c0_[p], c1_[p], c2_[p]};
+    for (int col = 0; col < 3; ++col)
+      for (int row = 0; row < 3; ++row) a[col][row] = mp * cc[col][row];
+    a[0][0] += s * td.x(), a[1][1] += s * td.y(), a[2][2] += s * td.z();
+    a[1][0] += s * to.x(), a[0][1] += s * to.x();
+    a[2][0] += s * to.y(), a[0][2] += s * to.y();
+    a[2][1] += s * to.z(), a[1][2] += s * to.z();
+    for (int col = 0; col < 3; ++col)
+      for (int row = 0; row < 3; ++row) a[col][row] *= dx_;
+    const Real mv[3] = {mp * v_[p].x(), mp * v_[p].y(), mp * v_[p].z()};
+    // Thermal channels: scalar parts (h) and offset slopes (hv, per axis).
+    Real h[6] = {0, 0, 0, 0, 0, 0}, hv[3][2] = {{0, 0}, {0, 0}, {0, 0}};
+    if constexpr (kThermal) {
+      h[0] = heat_capacity_[p];
+      h[1] = heat_capacity_[p] * temperature_[p];
+      h[2] = heat_src_[p];
+      h[3] = water_[p];
+      h[4] = j_[p] * volume0_[p];
+      h[5] = water_src_[p];
+      for (int d = 0; d < 3; ++d) hv[d][0] = heat_vec_[p][d], hv[d][1] = water_vec_[p][d];
+    }
+    for (int i = 0; i < 3; ++i) {
+      const Real ox = i - ax.frac;
+      Real ti[3];
+      for (int r = 0; r < 3; ++r) ti[r] = mv[r] + a[0][r] * ox;
+      const Real qi = h[2] + hv[0][0] * ox, wi = h[5] + hv[0][1] * ox;
+      for (int j = 0; j < 3; ++j) {
+        const Real oy = j - ay.frac, wij = ax.w[i] * ay.w[j];
+        Real tj[3];
+        for (int r = 0; r < 3; ++r) tj[r] = ti[r] + a[1][r] * oy;
+        const std::size_t row_index = std::size_t(ax.base + i) * syz + std::size_t(ay.base + j) * nz + az.base;
+        Node* row = &grid_[row_index];
+        for (int kk = 0; kk < 3; ++kk) {
+          const Real oz = kk - az.frac, w = wij * az.w[kk];
+          Node& node = row[kk];
+          node.mass += w * mp;
+          for (int r = 0; r < 3; ++r) node.mv[r] += w * (tj[r] + a[2][r] * oz);
         }
-        for (int i = 0; i < 3; ++i) {
-          const Real ox = i - ax.frac;
-          Real ti[3];
-          for (int r = 0; r < 3; ++r) ti[r] = mv[r] + a[0][r] * ox;
-          const Real qi = h[2] + hv[0][0] * ox, wi = h[5] + hv[0][1] * ox;
-          for (int j = 0; j < 3; ++j) {
-            const Real oy = j - ay.frac, wij = ax.w[i] * ay.w[j];
-            Real tj[3];
-            for (int r = 0; r < 3; ++r) tj[r] = ti[r] + a[1][r] * oy;
-            const std::size_t row_index = std::size_t(ax.base + i) * syz + std::size_t(ay.base + j) * nz + az.base;
-            Node* row = &grid_[row_index];
-            for (int kk = 0; kk < 3; ++kk) {
-              const Real oz = kk - az.frac, w = wij * az.w[kk];
-              Node& node = row[kk];
-              node.mass += w * mp;
-              for (int r = 0; r < 3; ++r) node.mv[r] += w * (tj[r] + a[2][r] * oz);
-            }
-            if constexpr (kThermal) {
-              const Real qj = qi + hv[1][0] * oy, wj = wi + hv[1][1] * oy;
-              HeatNode* hrow = &heat_grid_[row_index];
-              for (int kk = 0; kk < 3; ++kk) {
-                const Real oz = kk - az.frac, w = wij * az.w[kk];
-                Real* f = hrow[kk].f;
-                f[0] += w * h[0];
-                f[1] += w * h[1];
-                f[2] += w * (qj + hv[2][0] * oz);
-                f[3] += w * h[3];
-                f[4] += w * h[4];
-                f[5] += w * (wj + hv[2][1] * oz);
-              }
-            }
+        if constexpr (kThermal) {
+          const Real qj = qi + hv[1][0] * oy, wj = wi + hv[1][1] * oy;
+          HeatNode* hrow = &heat_grid_[row_index];
+          for (int kk = 0; kk < 3; ++kk) {
+            const Real oz = kk - az.frac, w = wij * az.w[kk];
+            Real* f = hrow[kk].f;
+            f[0] += w * h[0];
+            f[1] += w * h[1];
+            f[2] += w * (qj + hv[2][0] * oz);
+            f[3] += w * h[3];
+            f[4] += w * h[4];
+            f[5] += w * (wj + hv[2][1] * oz);
           }
         }
       }
-    }, 1);
-  }
+    }
+  });
 }
 
 void MpmSolver::phase_p2g(Real dt) {
@@ -715,29 +724,21 @@ void MpmSolver::phase_heat_implicit(Real dt) {
   std::vector<Real>& mass = implicit_mass_;
   // Particle-to-node operator: y_i = Σ_p w (a_p + g_p · o), per colour so no two threads share a node.
   auto scatter = [&](std::vector<Real>& y, auto&& particle_terms) {
-    for (const auto& blocks : colour_blocks_) {
-      parallel_for(blocks.size(), [&](std::size_t bi) {
-        const std::uint32_t b = blocks[bi];
-        for (std::uint32_t k = block_start_[b]; k < block_start_[b + 1]; ++k) {
-          const std::uint32_t p = order_[k];
-          const Vec3 g = (x_[p] - origin) * inv_dx_;
-          const Axis ax = axis_weights(g.x()), ay = axis_weights(g.y()), az = axis_weights(g.z());
-          Real a;
-          Vec3 gv;
-          Real diag_a, diag_g;
-          particle_terms(p, ax, ay, az, a, gv, diag_a, diag_g);
-          for (int i = 0; i < 3; ++i)
-            for (int j = 0; j < 3; ++j) {
-              const std::size_t row = std::size_t(ax.base + i) * syz + std::size_t(ay.base + j) * nz + az.base;
-              for (int kk = 0; kk < 3; ++kk) {
-                const Vec3 o(i - ax.frac, j - ay.frac, kk - az.frac);
-                const Real w = ax.w[i] * ay.w[j] * az.w[kk];
-                y[row + kk] += w * (a + gv.dot(o)) + w * w * (diag_a + diag_g * o.squaredNorm());
-              }
-            }
+    for_each_by_colour(colour_blocks_, block_start_, order_, x_, origin, inv_dx_, [&](std::uint32_t p, const Axis& ax, const Axis& ay, const Axis& az) {
+      Real a;
+      Vec3 gv;
+      Real diag_a, diag_g;
+      particle_terms(p, ax, ay, az, a, gv, diag_a, diag_g);
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+          const std::size_t row = std::size_t(ax.base + i) * syz + std::size_t(ay.base + j) * nz + az.base;
+          for (int kk = 0; kk < 3; ++kk) {
+            const Vec3 o(i - ax.frac, j - ay.frac, kk - az.frac);
+            const Real w = ax.w[i] * ay.w[j] * az.w[kk];
+            y[row + kk] += w * (a + gv.dot(o)) + w * w * (diag_a + diag_g * o.squaredNorm());
+          }
         }
-      }, 1);
-    }
+    });
   };
   auto gather = [&](const std::vector<Real>& x, const Axis& ax, const Axis& ay, const Axis& az, Real& value, Vec3& grad) {
     value = 0;

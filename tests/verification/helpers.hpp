@@ -18,6 +18,11 @@ inline std::unique_ptr<sph::SphSolver> make_sph(const nlohmann::json& doc) {
   return std::make_unique<sph::SphSolver>(scene.sph);
 }
 
+inline std::unique_ptr<mpm::MpmSolver> make_mpm(const nlohmann::json& doc) {
+  Scene scene = parse_scene(doc.dump(), "test-scene.json", ".");
+  return std::make_unique<mpm::MpmSolver>(scene.mpm);
+}
+
 // Steps with the solver's stable dt, landing exactly on t_end.
 template <class OnStep>
 inline void advance_to(Solver& s, double t_end, OnStep&& on_step) {

@@ -22,10 +22,7 @@ using nlohmann::json;
 
 namespace {
 
-std::unique_ptr<mpm::MpmSolver> make_mpm(const json& doc) {
-  Scene scene = parse_scene(doc.dump(), "test-scene.json", ".");
-  return std::make_unique<mpm::MpmSolver>(scene.mpm);
-}
+using test_support::make_mpm;
 
 json base_scene(double dx, json materials, json bodies, json domain_min, json domain_max, json gravity) {
   return {{"solver", {{"type", "mpm"}, {"mpm", {{"cell_size", dx}}}, {"cfl", 0.3}}},
