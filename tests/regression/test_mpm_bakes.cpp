@@ -6,6 +6,7 @@
 //   - the bread loaf rises (final/initial volume 1.2–2.5) and its core passes 90 °C.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 
@@ -44,9 +45,11 @@ Outcome bake(const std::string& name, double cell) {
 }  // namespace
 
 TEST(MpmBakes, CookiesWithMoreLeavenerEndTallerAndTheBaselineCookieEndsLower) {
-  const double cell = 0.004;  // scenes: 3 mm
+  const double cell = 0.005;  // scenes: 3 mm
   const Outcome low = bake("cookie-leavener-low", cell), medium = bake("cookie-leavener-medium", cell),
                 high = bake("cookie-leavener-high", cell), baseline = bake("cookie-baseline", cell);
+  std::printf("cookie heights: low %.2f, medium %.2f, high %.2f, baseline %.2f mm\n", low.height * 1e3, medium.height * 1e3,
+              high.height * 1e3, baseline.height * 1e3);
   RecordProperty("heights_mm", std::to_string(low.height * 1e3) + " " + std::to_string(medium.height * 1e3) + " " +
                                    std::to_string(high.height * 1e3) + " baseline " + std::to_string(baseline.height * 1e3));
   EXPECT_LT(low.height, medium.height);
@@ -57,6 +60,7 @@ TEST(MpmBakes, CookiesWithMoreLeavenerEndTallerAndTheBaselineCookieEndsLower) {
 
 TEST(MpmBakes, BreadLoafRisesAndItsCoreBakesThrough) {
   const Outcome loaf = bake("bread-loaf", 0.008);  // scene: 5 mm
+  std::printf("bread loaf: volume ratio %.3f, core %.1f degC\n", loaf.volume_ratio, loaf.core_temperature);
   RecordProperty("volume_ratio", std::to_string(loaf.volume_ratio));
   RecordProperty("core_temperature", std::to_string(loaf.core_temperature));
   EXPECT_GE(loaf.volume_ratio, 1.2);
