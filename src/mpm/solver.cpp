@@ -441,7 +441,8 @@ void MpmSolver::phase_grid(Real dt) {
   const Settings& st = setup_.settings;
   const Real dtb = dt * st.bake_time_scale, bake_t = (time_ + dt) * st.bake_time_scale;
   const Real air_t = setup_.air_temperature(bake_t), air_beta = setup_.heat_transfer_coefficient;
-  std::vector<Real> collider_t(setup_.colliders.size(), 0);
+  std::vector<Real>& collider_t = collider_temperatures_;
+  collider_t.assign(setup_.colliders.size(), 0);
   for (std::size_t ci = 0; ci < setup_.colliders.size(); ++ci)
     if (setup_.colliders[ci].collider.temperature) collider_t[ci] = (*setup_.colliders[ci].collider.temperature)(bake_t);
   const Real inv_rho_w = 1.0 / Moisture{}.water_density;
@@ -717,7 +718,7 @@ void MpmSolver::phase_plasticity(Real dt) {
 void MpmSolver::phase_heat_implicit(Real dt) {
   ScopedPhase t(timers_, t_heat_);
   const Real dtb = dt * setup_.settings.bake_time_scale;
-  const std::size_t nodes = heat_grid_.size(), n = x_.size();
+  const std::size_t nodes = heat_grid_.size();
   const Vec3 origin = setup_.domain.min;
   const std::size_t nz = nz_, syz = std::size_t(ny_) * nz_;
   const Real gscale = 4.0 * inv_dx_;
@@ -767,7 +768,10 @@ void MpmSolver::phase_heat_implicit(Real dt) {
       da = dg = 0;
     });
   };
-  std::vector<Real> rhs(nodes, 0), diag(nodes, 0), x(nodes, 0), r(nodes), z(nodes), d(nodes), q(nodes);
+  // Node vectors of the solve, kept between steps (no per-step allocation once sized).
+  ImplicitHeat& h = implicit_heat_;
+  for (std::vector<Real>* v : {&h.rhs, &h.diag, &h.x, &h.r, &h.z, &h.d, &h.q}) v->assign(nodes, 0);
+  std::vector<Real>&rhs = h.rhs, &diag = h.diag, &x = h.x, &r = h.r, &z = h.z, &d = h.d, &q = h.q;
   // Right-hand side and the Jacobi diagonal.
   scatter(rhs, [&](std::uint32_t p, const Axis&, const Axis&, const Axis&, Real& a, Vec3& gv, Real& da, Real& dg) {
     a = exchange_t_[p];
@@ -824,7 +828,6 @@ void MpmSolver::phase_heat_implicit(Real dt) {
       },
       [](Real a, Real b) { return a + b; });
   budget_.heat_in += energy;
-  (void)n;
 }
 
 void MpmSolver::check_state() {

@@ -213,6 +213,10 @@ class MpmSolver final : public Solver {
   std::size_t t_sort_, t_p2g_, t_grid_, t_g2p_, t_plastic_, t_heat_, t_check_;
   MixtureBudget budget_;
   std::vector<Real> implicit_mass_;  // M_i for the implicit heat solve
+  struct ImplicitHeat {
+    std::vector<Real> rhs, diag, x, r, z, d, q;
+  } implicit_heat_;
+  std::vector<Real> collider_temperatures_;  // per collider at the current bake time
   int heat_iterations_ = 0;
   std::vector<Real> initial_body_water_;
   Real time_ = 0;
