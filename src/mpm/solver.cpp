@@ -133,7 +133,6 @@ MpmSolver::MpmSolver(Setup setup)
   }
   build_particles();
   phase_sort();
-  budget_.initial_water = total_water();
   initial_body_water_.assign(setup_.bodies.size(), 0);
   for (std::size_t i = 0; i < x_.size(); ++i) initial_body_water_[body_[i]] += water_[i];
 }
@@ -801,8 +800,7 @@ void MpmSolver::phase_heat_implicit(Real dt) {
   parallel_for(nodes, [&](std::size_t k) { r[k] = mass[k] > 0 ? rhs[k] - q[k] : 0; z[k] = r[k] / diag[k]; d[k] = z[k]; }, 1 << 14);
   Real rz = dot(r, z);
   const Real rhs_norm = std::sqrt(dot(rhs, rhs));
-  int it = 0;
-  for (; it < setup_.settings.heat_max_iterations && std::sqrt(dot(r, r)) > setup_.settings.heat_tolerance * rhs_norm; ++it) {
+  for (int it = 0; it < setup_.settings.heat_max_iterations && std::sqrt(dot(r, r)) > setup_.settings.heat_tolerance * rhs_norm; ++it) {
     apply(d, q);
     const Real alpha = rz / dot(d, q);
     parallel_for(nodes, [&](std::size_t k) { x[k] += alpha * d[k]; r[k] -= alpha * q[k]; z[k] = r[k] / diag[k]; }, 1 << 14);
@@ -811,7 +809,6 @@ void MpmSolver::phase_heat_implicit(Real dt) {
     rz = rz_new;
     parallel_for(nodes, [&](std::size_t k) { d[k] = z[k] + beta * d[k]; }, 1 << 14);
   }
-  heat_iterations_ = it;
   const Real energy = deterministic_reduce(
       nodes, Real(0),
       [&](std::size_t b, std::size_t e) {

@@ -86,11 +86,9 @@ struct Setup {
 
 // Running totals of the mixture (bake time, SI units).
 struct MixtureBudget {
-  Real initial_water = 0;    // kg
   Real evaporated = 0;       // kg that left through the boundary
   Real clamped = 0;          // kg the evaporation asked for beyond what a node held (not removed)
   Real heat_in = 0;          // J through the boundary (air and hot colliders)
-  Real co2_generated = 0;    // mol
 };
 
 class MpmSolver final : public Solver {
@@ -123,7 +121,6 @@ class MpmSolver final : public Solver {
   bool thermal() const { return setup_.settings.heat != HeatMethod::off; }
   Real bake_time() const { return time_ * setup_.settings.bake_time_scale; }
   const MixtureBudget& budget() const { return budget_; }
-  int heat_iterations() const { return heat_iterations_; }
   Real total_water() const;
   Real total_co2() const;        // mol
   Real total_heat_energy() const;  // Σ m c θ, J (θ in °C)
@@ -217,7 +214,6 @@ class MpmSolver final : public Solver {
     std::vector<Real> rhs, diag, x, r, z, d, q;
   } implicit_heat_;
   std::vector<Real> collider_temperatures_;  // per collider at the current bake time
-  int heat_iterations_ = 0;
   std::vector<Real> initial_body_water_;
   Real time_ = 0;
   std::size_t steps_ = 0;
