@@ -14,9 +14,12 @@
 #include "bench.hpp"
 #include "core/errors.hpp"
 #include "core/progress.hpp"
+#include "io/run_meshes.hpp"
 #include "io/run_output.hpp"
 #include "io/scene.hpp"
 #include "io/schema.hpp"
+#include "render/plot.hpp"
+#include "render/run_pictures.hpp"
 
 namespace fs = std::filesystem;
 using namespace bakesim;
@@ -81,6 +84,60 @@ int command_run(const RunArgs& a) {
   return kExitOk;
 }
 
+struct MeshArgs {
+  std::string run_dir;
+  std::string method = "levelset";
+  std::string colour = "browning";
+  std::string range;
+  std::vector<int> frames;
+  double voxel_ratio = 0.5;
+  int threads = 0;
+};
+
+std::optional<std::pair<Real, Real>> parse_range(const std::string& s, const std::string& option) {
+  if (s.empty()) return std::nullopt;
+  const auto comma = s.find(',');
+  try {
+    if (comma != std::string::npos) {
+      const double lo = std::stod(s.substr(0, comma)), hi = std::stod(s.substr(comma + 1));
+      if (hi > lo) return std::make_pair(lo, hi);
+    }
+  } catch (const std::exception&) {
+  }
+  throw InputError(option, "expects LOW,HIGH with LOW < HIGH, got '" + s + "'");
+}
+
+int command_mesh(const MeshArgs& a) {
+  const int threads = a.threads > 0 ? a.threads : static_cast<int>(tbb::info::default_concurrency());
+  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
+  const RunDirectory run = open_run(a.run_dir);
+  if (run.frames.empty()) throw InputError(a.run_dir, "has no particle frames (frames/NNNNN.ply) to mesh");
+  const RunGeometry geometry = run_geometry(run.scene);
+  MeshSettings settings;
+  settings.surface.method = surface::parse_surface_method(a.method);
+  settings.surface.voxel_ratio = a.voxel_ratio;
+  settings.colour = a.colour;
+  settings.range = parse_range(a.range, "mesh --range");
+  std::vector<int> frames = a.frames;
+  if (frames.empty())
+    for (const auto& [f, path] : run.frames) frames.push_back(f);
+  Stopwatch clock;
+  std::size_t triangles = 0;
+  for (int f : frames) {
+    if (!run.frames.count(f)) throw InputError("mesh --frame", fmt::format("{} has no frame {}", a.run_dir, f));
+    const surface::SurfaceMesh mesh = frame_mesh(read_particle_frame(run.frames.at(f)), geometry, settings);
+    const surface::MeshQuality q = surface::check_mesh(mesh);
+    write_frame_mesh(run.dir / "meshes", f, mesh, settings);
+    triangles += mesh.triangles.size();
+    if (!q.closed_and_oriented())
+      fmt::print(stderr, "bakesim: warning: frame {} mesh has {} open, {} non-manifold and {} misoriented edges\n", f, q.boundary_edges,
+                 q.non_manifold_edges, q.misoriented_edges);
+  }
+  fmt::print(stderr, "bakesim: meshed {} frames ({} method, {} triangles in all) in {} into {}/meshes/\n", frames.size(), a.method,
+             triangles, format_duration(clock.seconds()), a.run_dir);
+  return kExitOk;
+}
+
 std::vector<long> parse_counts(const std::string& s) {
   std::vector<long> out;
   std::stringstream ss(s);
@@ -102,6 +159,10 @@ int main(int argc, char** argv) {
       "  bakesim validate scenes/viscous-funnel.json       check a scene, print what it would simulate\n"
       "  bakesim bench --particles 50000,200000            SPH speed in particle-steps per second\n"
       "  bakesim bench --solver mpm --threads 1,2          MPM speed (100K and 500K points)\n"
+      "  bakesim mesh out/bread-roll                       surface meshes of every frame (PLY, OBJ)\n"
+      "  bakesim render out/bread-roll --all --movie       pictures of every frame and an MP4\n"
+      "  bakesim render out/bread-roll --mode particles --color temperature\n"
+      "  bakesim plot out/bread-roll                       probe temperatures, volume, height as PNG\n"
       "  bakesim schema --markdown > docs/scene-reference.md\n"
       "Exit codes: 0 ok, 1 runtime or I/O failure, 2 bad input, 3 simulation failure.");
 
@@ -127,6 +188,37 @@ int main(int argc, char** argv) {
   bench->add_option("--search", bench_search, "Comma-separated neighbour searches: grid, kdtree");
   bench->add_option("--steps", bench_opt.steps, "Timed steps per case")->check(CLI::Range(1, 100000));
 
+  MeshArgs mesh_args;
+  auto* mesh = app.add_subcommand("mesh", "Reconstruct surface meshes (PLY, OBJ+MTL) of a run's frames into RUN_DIR/meshes/");
+  mesh->add_option("run_dir", mesh_args.run_dir, "Run directory (made by bakesim run)")->required();
+  mesh->add_option("--method", mesh_args.method, "levelset (default) or wyvill (the thesis's field, Eq 3.59-3.60)")->check(CLI::IsMember({"levelset", "wyvill"}));
+  mesh->add_option("--color,--colour", mesh_args.colour, "Quantity the vertices are coloured by: browning (default), temperature, saturation, ...");
+  mesh->add_option("--range", mesh_args.range, "LOW,HIGH of the colour quantity (default: browning 0,1; temperature 20,220)");
+  mesh->add_option("--frame", mesh_args.frames, "Frame numbers to mesh (default: all)");
+  mesh->add_option("--voxel", mesh_args.voxel_ratio, "Voxel size as a fraction of the particle spacing")->check(CLI::Range(0.1, 2.0));
+  mesh->add_option("--threads,-j", mesh_args.threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 4096));
+
+  render::RenderRunOptions render_opt;
+  std::string render_range, render_method = "levelset";
+  int render_threads = 0;
+  auto* render_cmd = app.add_subcommand("render", "Draw PNG pictures of a run's frames into RUN_DIR/render/");
+  render_cmd->add_option("run_dir", mesh_args.run_dir, "Run directory (made by bakesim run)")->required();
+  render_cmd->add_option("--frame", render_opt.frames, "Frame numbers (default: the last frame)");
+  render_cmd->add_flag("--all", render_opt.all_frames, "Every frame with a particle file");
+  render_cmd->add_option("--mode", render_opt.mode, "mesh (the surface, default) or particles")->check(CLI::IsMember({"mesh", "particles"}));
+  render_cmd->add_option("--color,--colour", render_opt.colour, "browning (default), temperature, saturation, or any particle quantity");
+  render_cmd->add_option("--range", render_range, "LOW,HIGH of the colour quantity");
+  render_cmd->add_option("--method", render_method, "Surface method for --mode mesh: levelset or wyvill")->check(CLI::IsMember({"levelset", "wyvill"}));
+  render_cmd->add_option("--width", render_opt.width, "Picture width (default: the scene's render.width, 1280)")->check(CLI::Range(16, 8192));
+  render_cmd->add_option("--height", render_opt.height, "Picture height (default: the scene's render.height, 720)")->check(CLI::Range(16, 8192));
+  render_cmd->add_flag("--movie", render_opt.movie, "Also assemble an MP4 of the rendered frames (needs ffmpeg)");
+  render_cmd->add_flag("--strip", render_opt.strip, "Also write an image strip of up to six of the rendered frames");
+  render_cmd->add_option("--threads,-j", render_threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 4096));
+
+  std::string plot_dir;
+  auto* plot = app.add_subcommand("plot", "Plot a run's stats.csv into RUN_DIR/plots/ (temperatures, volume, height, moisture)");
+  plot->add_option("run_dir", plot_dir, "Run directory (made by bakesim run)")->required();
+
   bool markdown = false;
   auto* schema = app.add_subcommand("schema", "Print the scene JSON schema (or its Markdown reference)");
   schema->add_flag("--markdown", markdown, "Print the scene reference in Markdown");
@@ -141,6 +233,25 @@ int main(int argc, char** argv) {
   try {
     if (*run) return command_run(run_args);
     if (*validate) return command_validate(validate_path);
+    if (*mesh) return command_mesh(mesh_args);
+    if (*render_cmd) {
+      const int threads = render_threads > 0 ? render_threads : static_cast<int>(tbb::info::default_concurrency());
+      tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
+      render_opt.range = parse_range(render_range, "render --range");
+      render_opt.method = surface::parse_surface_method(render_method);
+      Stopwatch clock;
+      const auto r = render::render_run(mesh_args.run_dir, render_opt);
+      fmt::print(stderr, "bakesim: {} picture(s) in {}: {}{}{}\n", r.images.size(), format_duration(clock.seconds()),
+                 r.images.size() == 1 ? r.images[0].string() : (fs::path(mesh_args.run_dir) / "render/").string(),
+                 r.strip ? ", strip " + r.strip->string() : "", r.movie ? ", movie " + r.movie->string() : "");
+      if (!r.note.empty()) fmt::print(stderr, "bakesim: {}\n", r.note);
+      return kExitOk;
+    }
+    if (*plot) {
+      const auto files = render::plot_run(plot_dir);
+      for (const auto& f : files) fmt::print("{}\n", f.string());
+      return kExitOk;
+    }
     if (*bench) {
       if (bench_particles.empty()) bench_particles = bench_opt.solver == "mpm" ? "100000,500000" : "50000,200000";
       bench_opt.particles = parse_counts(bench_particles);

@@ -14,6 +14,10 @@ PACKAGES=(
   libtinyobjloader-dev   # OBJ meshes
   libqhull-dev           # convex hulls (surface particle detection)
   libgtest-dev libgmock-dev libbenchmark-dev  # tests and benchmarks
+  libopenvdb-dev libboost-dev  # level sets and meshing (OpenVDB's headers need Boost's)
+  libembree-dev          # ray casting for pictures
+  libstb-dev             # PNG writing, TrueType text for plots and colour bars
+  fonts-dejavu-core      # the font plots and colour bars are labelled with
 )
 
 missing=()

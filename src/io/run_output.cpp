@@ -62,6 +62,11 @@ RunOutput::RunOutput(fs::path dir, const Scene& scene, RunLog& log) : dir_(std::
   ensure_directory(dir_ / "frames");
   write_file_atomic(dir_ / "scene.json", scene_.resolved.dump(2) + "\n");
   stats_ = stats_header() + "\n";
+  const auto& mesh = scene_.resolved["output"]["mesh"];
+  if (mesh["enabled"].get<bool>()) {
+    mesh_ = mesh_settings(mesh);
+    geometry_ = run_geometry(scene_.resolved);
+  }
 }
 
 std::string RunOutput::stats_header() const {
@@ -89,6 +94,7 @@ void RunOutput::on_frame(const FrameInfo& info, const Solver& solver) {
       pvd_.push_back({info.time, "frames/" + stem + ".vtu"});
       write_file_atomic(dir_ / "particles.pvd", encode_pvd(pvd_));
     }
+    if (mesh_) write_frame_mesh(dir_ / "meshes", info.frame, frame_mesh(ps, geometry_, *mesh_), *mesh_);
   }
   const auto extra = solver.frame_quantities();
   if (!extra_header_written_) {

@@ -3,11 +3,13 @@
 //   scene.json          the resolved scene (every default filled in)
 //   frames/NNNNN.ply    binary PLY per written frame
 //   frames/NNNNN.vtu    VTK XML per written frame, with particles.pvd listing them
+//   meshes/NNNNN.*      surface meshes of written frames when output.mesh.enabled
 //   stats.csv           one row per frame
 //   log.txt             the run's log
 // Every file is written atomically (temporary name, then rename).
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -15,6 +17,7 @@
 #include <spdlog/logger.h>
 
 #include "io/particle_files.hpp"
+#include "io/run_meshes.hpp"
 #include "io/scene.hpp"
 #include "sim/frame_loop.hpp"
 
@@ -48,6 +51,8 @@ class RunOutput final : public FrameObserver {
   std::string stats_;
   bool extra_header_written_ = false;
   std::vector<PvdEntry> pvd_;
+  std::optional<MeshSettings> mesh_;  // output.mesh.enabled: mesh each written frame
+  RunGeometry geometry_;
   std::vector<std::int32_t> follow_ids_;  // per probe: followed particle id, -1 for fixed probes
   Stopwatch clock_;
 };

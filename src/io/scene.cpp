@@ -161,6 +161,10 @@ PiecewiseLinear build_schedule(const Ctx& c, const std::string& path, const json
   return PiecewiseLinear(pts);
 }
 
+BrowningKinetics build_browning(const json& b) {
+  return {b["max_colour_difference"].get<double>(), b["rate_constant"].get<double>(), b["activation_energy"].get<double>()};
+}
+
 std::pair<int, int> line_column(const std::string& text, std::size_t byte) {
   int line = 1, col = 1;
   for (std::size_t i = 0; i + 1 < byte && i < text.size(); ++i) {
@@ -296,6 +300,7 @@ mpm::Setup build_mpm_setup(const Ctx& c, const json& doc, const sph::Setup& sph)
   setup.air_temperature = build_schedule(c, "environment.air_temperature", doc["environment"]["air_temperature"]);
   setup.heat_transfer_coefficient = doc["environment"]["heat_transfer_coefficient"].get<double>();
   st.bake_time_scale = doc["environment"]["bake_time_scale"].get<double>();
+  setup.browning = build_browning(doc["environment"]["browning"]);
   st.baseline = mj["model"].get<std::string>() == "baseline";
   st.heat_tolerance = mj["heat_tolerance"].get<double>();
   st.heat_max_iterations = mj["heat_max_iterations"].get<int>();
@@ -470,6 +475,7 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::s
   setup.environment.air_temperature = sc.air_temperature;
   setup.environment.heat_transfer_coefficient = sc.heat_transfer_coefficient;
   setup.environment.bake_time_scale = sc.bake_time_scale;
+  setup.environment.browning = build_browning(doc["environment"]["browning"]);
   setup.domain_friction = doc["domain"]["friction"].get<double>();
   setup.domain_damping = doc["domain"]["damping"].get<double>();
 

@@ -77,6 +77,7 @@ MpmSolver::MpmSolver(Setup setup)
       j_(particles_.add_scalar("J", "")),
       jp_(particles_.add_scalar("plastic_J", "")),
       temperature_(particles_.add_scalar("temperature", "degC")),
+      browning_(particles_.add_scalar("browning", "")),
       f0_(particles_.add_vector("F_col0", "", false)),
       f1_(particles_.add_vector("F_col1", "", false)),
       f2_(particles_.add_vector("F_col2", "", false)),
@@ -125,6 +126,7 @@ MpmSolver::MpmSolver(Setup setup)
   t_g2p_ = timers_.add("g2p");
   t_plastic_ = timers_.add("constitutive");
   t_heat_ = timers_.add("heat_solve");
+  t_browning_ = timers_.add("browning");
   t_check_ = timers_.add("check");
   // Water pressure stiffens the mixture: dP_w/dJ ≈ ξ s₀.
   for (const Material& mat : setup_.materials) {
@@ -266,6 +268,15 @@ Real MpmSolver::max_stable_dt() {
   return dt;
 }
 
+// Crust colour (Zanoni et al. 1995, physics/browning.hpp) from each point's
+// temperature after this step's heat transfer, on the bake clock.
+void MpmSolver::phase_browning(Real dt) {
+  ScopedPhase t(timers_, t_browning_);
+  const BrowningKinetics& kinetics = setup_.browning;
+  const Real dt_bake = dt * setup_.settings.bake_time_scale;
+  parallel_for(x_.size(), [&](std::size_t i) { browning_[i] = kinetics.advance(browning_[i], temperature_[i], dt_bake); });
+}
+
 void MpmSolver::step(Real dt) {
   if (!(dt > 0)) throw SimulationError(fmt::format("mpm step {}: time step {} is not positive", steps_, dt));
   phase_sort();
@@ -274,6 +285,7 @@ void MpmSolver::step(Real dt) {
   if (setup_.settings.heat == HeatMethod::implicit) phase_heat_implicit(dt);
   phase_g2p(dt);
   phase_plasticity(dt);
+  if (thermal()) phase_browning(dt);
   check_state();
   time_ += dt;
   ++steps_;

@@ -15,6 +15,7 @@
 #include "geometry/motion.hpp"
 #include "geometry/shapes.hpp"
 #include "mpm/constitutive.hpp"
+#include "physics/browning.hpp"
 #include "physics/mixture.hpp"
 
 namespace bakesim::mpm {
@@ -82,6 +83,7 @@ struct Setup {
   Vec3 gravity = Vec3(0, -9.81, 0);
   PiecewiseLinear air_temperature = PiecewiseLinear::constant(20);  // °C over bake time
   Real heat_transfer_coefficient = 10;  // β of the air, W/(m² K)
+  BrowningKinetics browning;  // crust colour from the temperature history
 };
 
 // Running totals of the mixture (bake time, SI units).
@@ -134,6 +136,7 @@ class MpmSolver final : public Solver {
   void phase_g2p(Real dt);
   void phase_plasticity(Real dt);
   void phase_heat_implicit(Real dt);
+  void phase_browning(Real dt);
   void check_state();
   template <bool kThermal> void p2g(Real dt);
   template <bool kThermal> void g2p(Real dt);
@@ -148,6 +151,7 @@ class MpmSolver final : public Solver {
   std::vector<Real>& j_;
   std::vector<Real>& jp_;
   std::vector<Real>& temperature_;
+  std::vector<Real>& browning_;  // browning index B = ΔE/ΔE∞
   std::vector<Vec3>& f0_;
   std::vector<Vec3>& f1_;
   std::vector<Vec3>& f2_;
@@ -207,7 +211,7 @@ class MpmSolver final : public Solver {
   std::vector<std::vector<std::uint32_t>> material_members_;
   std::vector<RigidPose> collider_poses_;  // per collider, refreshed each grid phase
 
-  std::size_t t_sort_, t_p2g_, t_grid_, t_g2p_, t_plastic_, t_heat_, t_check_;
+  std::size_t t_sort_, t_p2g_, t_grid_, t_g2p_, t_plastic_, t_heat_, t_browning_, t_check_;
   MixtureBudget budget_;
   std::vector<Real> implicit_mass_;  // M_i for the implicit heat solve
   struct ImplicitHeat {

@@ -79,6 +79,7 @@ SphSolver::SphSolver(Setup setup)
       p_(particles_.add_scalar("pressure", "Pa")),
       m_(particles_.add_scalar("mass", "kg")),
       temperature_(particles_.add_scalar("temperature", "degC")),
+      browning_(particles_.add_scalar("browning", "")),
       mu_(particles_.add_scalar("viscosity", "Pa*s")),
       eps_(particles_.add_scalar("xsph_epsilon", "")),
       elasticity_(particles_.add_scalar("elasticity", "Pa")),
@@ -144,6 +145,7 @@ SphSolver::SphSolver(Setup setup)
   t_xsph_ = timers_.add("xsph");
   t_viscosity_ = timers_.add("viscosity");
   t_heat_ = timers_.add("heat");
+  t_browning_ = timers_.add("browning");
   t_properties_ = timers_.add("properties");
   t_smoothing_ = timers_.add("smoothing");
   t_check_ = timers_.add("check");
@@ -937,6 +939,16 @@ Real SphSolver::max_stable_dt() {
   return dt;
 }
 
+// Crust colour (Zanoni et al. 1995, physics/browning.hpp) from each particle's
+// temperature, on the bake clock. Every particle browns at its own
+// temperature; the crust browns first because it is the hottest.
+void SphSolver::phase_browning(Real dt) {
+  ScopedPhase t(timers_, t_browning_);
+  const BrowningKinetics& kinetics = setup_.environment.browning;
+  const Real dt_bake = dt * setup_.environment.bake_time_scale;
+  parallel_for(x_.size(), [&](std::size_t i) { browning_[i] = kinetics.advance(browning_[i], temperature_[i], dt_bake); });
+}
+
 void SphSolver::step(Real dt) {
   if (!(dt > 0) || !std::isfinite(dt)) throw SimulationError(fmt::format("SPH step {}: invalid time step {}", steps_, dt));
   phase_kick(dt);
@@ -952,6 +964,7 @@ void SphSolver::step(Real dt) {
   phase_xsph();
   phase_viscosity(dt);
   phase_heat(dt);
+  phase_browning(dt);
   phase_properties();
   phase_smoothing();
   time_ += dt;

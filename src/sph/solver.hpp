@@ -31,6 +31,7 @@
 #include "core/solver.hpp"
 #include "geometry/colliders.hpp"
 #include "geometry/shapes.hpp"
+#include "physics/browning.hpp"
 #include "physics/curves.hpp"
 #include "sph/kernels.hpp"
 #include "sph/neighbours.hpp"
@@ -93,6 +94,7 @@ struct Environment {
   PiecewiseLinear air_temperature = PiecewiseLinear::constant(20.0);  // °C over bake time (s)
   Real heat_transfer_coefficient = 10.0;  // W/(m² K), air to surface particles
   Real bake_time_scale = 1.0;
+  BrowningKinetics browning;  // crust colour from the temperature history
 };
 
 // Per-particle smoothing length, Eq 3.54–3.56 (docs/physics.md).
@@ -198,6 +200,7 @@ class SphSolver final : public Solver {
   void phase_xsph();
   void phase_viscosity(Real dt);
   void phase_heat(Real dt);
+  void phase_browning(Real dt);
   void phase_properties();
   void phase_smoothing();
   void assign_bubbles();
@@ -239,6 +242,7 @@ class SphSolver final : public Solver {
   std::vector<Real>& p_;
   std::vector<Real>& m_;
   std::vector<Real>& temperature_;
+  std::vector<Real>& browning_;  // browning index B = ΔE/ΔE∞
   std::vector<Real>& mu_;
   std::vector<Real>& eps_;
   std::vector<Real>& elasticity_;   // μ_e
@@ -277,7 +281,7 @@ class SphSolver final : public Solver {
 
   PhaseTimers timers_;
   int t_kick_, t_drift_, t_collide_, t_sort_, t_neigh_, t_density_, t_surface_, t_stress_, t_pressure_, t_forces_, t_xsph_,
-      t_viscosity_, t_heat_, t_properties_, t_smoothing_, t_check_;
+      t_viscosity_, t_heat_, t_browning_, t_properties_, t_smoothing_, t_check_;
   Real time_ = 0.0;
   long steps_ = 0;
   std::string dt_bound_ = "cfl";

@@ -1,0 +1,167 @@
+#include "io/run_meshes.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "core/errors.hpp"
+#include "io/files.hpp"
+#include "io/mesh_files.hpp"
+#include "io/ply_reader.hpp"
+
+namespace bakesim {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+RunGeometry run_geometry(const json& scene) {
+  RunGeometry g;
+  g.solver = scene.at("solver").at("type").get<std::string>();
+  if (g.solver == "mpm") {
+    const json& m = scene.at("solver").at("mpm");
+    g.spacing = m.at("cell_size").get<double>() / std::cbrt(m.at("particles_per_cell").get<double>());
+  } else {
+    g.spacing = scene.at("solver").at("sph").at("spacing").get<double>();
+  }
+  for (const auto& [name, material] : scene.at("materials").items()) g.rest_density.push_back(material.at("density").get<double>());
+  return g;
+}
+
+MeshSettings mesh_settings(const json& m) {
+  MeshSettings s;
+  s.surface.method = surface::parse_surface_method(m.at("method").get<std::string>());
+  s.surface.voxel_ratio = m.at("voxel_ratio").get<double>();
+  s.colour = m.at("colour").get<std::string>();
+  s.ply = s.obj = false;
+  for (const auto& f : m.at("formats")) (f.get<std::string>() == "ply" ? s.ply : s.obj) = true;
+  return s;
+}
+
+namespace {
+// A scalar or integer attribute as reals (frames read back from PLY carry every
+// non-vector property as a scalar; a live particle set keeps its integers).
+std::optional<std::vector<Real>> attribute_values(const ParticleSet& ps, const std::string& name) {
+  for (const auto& a : ps.scalars())
+    if (a.info.name == name) return a.data;
+  for (const auto& a : ps.integers())
+    if (a.info.name == name) return std::vector<Real>(a.data.begin(), a.data.end());
+  return std::nullopt;
+}
+}  // namespace
+
+std::vector<Real> particle_values(const ParticleSet& ps, const std::string& q) {
+  if (auto v = attribute_values(ps, q)) return *v;
+  if (q == "speed" && ps.has("velocity")) {
+    std::vector<Real> v;
+    for (const Vec3& u : ps.vector("velocity")) v.push_back(u.norm());
+    return v;
+  }
+  std::string known;
+  for (const auto& a : ps.scalars()) known += (known.empty() ? "" : ", ") + a.info.name;
+  throw InputError("colour", fmt::format("the frames have no quantity '{}' (they have: {}{})", q, known, ps.has("velocity") ? ", speed" : ""));
+}
+
+std::pair<Real, Real> colour_range(const ParticleSet& ps, const std::string& q, const std::optional<std::pair<Real, Real>>& given) {
+  if (given) return *given;
+  if (q == "browning" || q == "saturation") return {0.0, 1.0};
+  if (q == "temperature") return {20.0, 220.0};
+  const std::vector<Real> v = particle_values(ps, q);
+  if (v.empty()) return {0.0, 1.0};
+  const auto [lo, hi] = std::minmax_element(v.begin(), v.end());
+  return {*lo, *hi > *lo ? *hi : *lo + 1.0};
+}
+
+surface::Palette colour_palette(const std::string& q) { return q == "browning" ? surface::Palette::baking : surface::Palette::heat; }
+
+surface::SurfaceParticles surface_particles(const ParticleSet& ps, const RunGeometry& run) {
+  surface::SurfaceParticles s;
+  s.spacing = run.spacing;
+  s.position = ps.vector("position");
+  s.density_ratio.assign(ps.size(), 1.0);
+  const auto jacobian = attribute_values(ps, "J"), density = attribute_values(ps, "density");
+  if (run.solver == "mpm" && jacobian) {
+    s.density_ratio = *jacobian;  // ρ0/ρ = J
+  } else if (density) {
+    const auto& rho = *density;
+    const auto mat = attribute_values(ps, "material_id");
+    for (std::size_t i = 0; i < ps.size(); ++i) {
+      std::size_t m = mat ? std::size_t(std::max(0.0, (*mat)[i])) : 0;
+      if (m >= run.rest_density.size()) m = 0;
+      const Real rest = run.rest_density.empty() ? rho[i] : run.rest_density[m];
+      s.density_ratio[i] = rho[i] > 0 ? rest / rho[i] : 1.0;
+    }
+  }
+  return s;
+}
+
+surface::SurfaceMesh frame_mesh(const ParticleSet& ps, const RunGeometry& run, const MeshSettings& settings) {
+  const surface::SurfaceParticles sp = surface_particles(ps, run);
+  surface::SurfaceMesh mesh = surface::reconstruct_surface(sp, settings.surface);
+  surface::ColourSamples samples;
+  samples.position = sp.position;
+  const Real cell = run.spacing * run.spacing * run.spacing;
+  samples.volume.resize(ps.size());
+  for (std::size_t i = 0; i < ps.size(); ++i) samples.volume[i] = cell * sp.density_ratio[i];  // m/ρ
+  const auto [lo, hi] = colour_range(ps, settings.colour, settings.range);
+  samples.value = particle_values(ps, settings.colour);
+  for (Real& v : samples.value) v = (v - lo) / (hi - lo);
+  if (const auto bubble = attribute_values(ps, "bubble"))
+    for (Real b : *bubble) samples.bubble.push_back(b != 0 ? 1 : 0);
+  surface::assign_uv(mesh, samples, 2.0 * run.spacing);
+  surface::colour_vertices(mesh, colour_palette(settings.colour));
+  return mesh;
+}
+
+void write_frame_mesh(const fs::path& dir, int frame, const surface::SurfaceMesh& mesh, const MeshSettings& settings) {
+  ensure_directory(dir);
+  const std::string stem = fmt::format("{:05d}", frame);
+  if (settings.ply) write_file_atomic(dir / (stem + ".ply"), encode_mesh_ply(mesh));
+  if (settings.obj) {
+    const std::string palette = colour_palette(settings.colour) == surface::Palette::baking ? "baking" : "heat";
+    const std::string texture = "gradient_" + palette + ".png", material = "bakesim_" + palette;
+    if (!fs::exists(dir / texture)) write_file_atomic(dir / texture, encode_png(gradient_texture(colour_palette(settings.colour))));
+    write_file_atomic(dir / (material + ".mtl"), encode_mtl(material, texture));
+    write_file_atomic(dir / (stem + ".obj"), encode_mesh_obj(mesh, material + ".mtl", material));
+  }
+}
+
+namespace {
+std::string read_all(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  if (!in) throw InputError(p.string(), "cannot be read");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+}  // namespace
+
+RunDirectory open_run(const fs::path& dir) {
+  RunDirectory r;
+  r.dir = dir;
+  const fs::path scene = dir / "scene.json";
+  if (!fs::is_regular_file(scene)) throw InputError(dir.string(), "not a run directory (no scene.json; make one with `bakesim run SCENE --out DIR`)");
+  try {
+    r.scene = json::parse(read_all(scene));
+  } catch (const json::exception& e) {
+    throw InputError(scene.string(), std::string("not valid JSON: ") + e.what());
+  }
+  if (fs::is_directory(dir / "frames"))
+    for (const auto& entry : fs::directory_iterator(dir / "frames")) {
+      const fs::path& p = entry.path();
+      if (p.extension() != ".ply") continue;
+      const std::string stem = p.stem().string();
+      if (stem.empty() || !std::all_of(stem.begin(), stem.end(), [](char c) { return c >= '0' && c <= '9'; })) continue;
+      r.frames[std::stoi(stem)] = p;
+    }
+  return r;
+}
+
+ParticleSet read_particle_frame(const fs::path& ply) {
+  const std::string bytes = read_all(ply);
+  return particles_from_ply(parse_ply(bytes, ply.string()), ply.string());
+}
+
+}  // namespace bakesim

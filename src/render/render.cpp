@@ -1,0 +1,283 @@
+#include "render/render.hpp"
+
+#include <embree3/rtcore.h>
+#include <fmt/format.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <functional>
+
+#include "core/errors.hpp"
+#include "core/parallel.hpp"
+#include "render/plot.hpp"
+
+namespace bakesim::render {
+
+using Vec3f = Eigen::Vector3f;
+
+Camera frame_camera(const Aabb& box, Real aspect, Real fov) {
+  Camera c;
+  c.field_of_view = fov;
+  const Vec3 centre = 0.5 * (box.min + box.max);
+  const Real radius = std::max(0.5 * box.extent().norm(), 1e-4);
+  const Vec3 view = Vec3(0.55, 0.55, 1.0).normalized();  // front-right, above
+  // The bounding sphere fits the narrower of the two fields of view.
+  const Real half = 0.5 * fov * kPi / 180.0;
+  const Real half_narrow = std::min(half, std::atan(std::tan(half) * aspect));
+  c.look_at = centre;
+  c.position = centre + view * (radius / std::sin(half_narrow) * 1.02);
+  return c;
+}
+
+namespace {
+
+// Embree device and scene, released together.
+struct RayScene {
+  RTCDevice device = nullptr;
+  RTCScene scene = nullptr;
+  unsigned ground = RTC_INVALID_GEOMETRY_ID, object = RTC_INVALID_GEOMETRY_ID;
+  RayScene() {
+    device = rtcNewDevice("threads=1");  // rays are cast from our own parallel loop
+    if (!device) throw Error("render: Embree could not create a device");
+    scene = rtcNewScene(device);
+  }
+  ~RayScene() {
+    if (scene) rtcReleaseScene(scene);
+    if (device) rtcReleaseDevice(device);
+  }
+  RayScene(const RayScene&) = delete;
+  RayScene& operator=(const RayScene&) = delete;
+
+  unsigned add_triangles(const std::vector<Vec3f>& v, const std::vector<std::array<std::uint32_t, 3>>& t) {
+    RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), v.size()));
+    auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), t.size()));
+    for (std::size_t i = 0; i < v.size(); ++i) vb[3 * i] = v[i].x(), vb[3 * i + 1] = v[i].y(), vb[3 * i + 2] = v[i].z();
+    for (std::size_t i = 0; i < t.size(); ++i) ib[3 * i] = t[i][0], ib[3 * i + 1] = t[i][1], ib[3 * i + 2] = t[i][2];
+    rtcCommitGeometry(g);
+    const unsigned id = rtcAttachGeometry(scene, g);
+    rtcReleaseGeometry(g);
+    return id;
+  }
+  unsigned add_spheres(const std::vector<Vec3>& p, float radius) {
+    RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
+    auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), p.size()));
+    for (std::size_t i = 0; i < p.size(); ++i)
+      vb[4 * i] = float(p[i].x()), vb[4 * i + 1] = float(p[i].y()), vb[4 * i + 2] = float(p[i].z()), vb[4 * i + 3] = radius;
+    rtcCommitGeometry(g);
+    const unsigned id = rtcAttachGeometry(scene, g);
+    rtcReleaseGeometry(g);
+    return id;
+  }
+};
+
+// Per-pixel random numbers (a hash, so pixels are independent of scheduling).
+struct Random {
+  std::uint32_t state;
+  Random(std::uint32_t x, std::uint32_t y) : state(x * 1973u + y * 9277u + 26699u) { next(); }
+  std::uint32_t next() {
+    state ^= state << 13, state ^= state >> 17, state ^= state << 5;
+    std::uint32_t z = state * 0x9E3779B9u;
+    z ^= z >> 16;
+    return z;
+  }
+  float uniform() { return float(next() >> 8) * (1.0f / 16777216.0f); }
+};
+
+Vec3f srgb_to_linear(const std::array<std::uint8_t, 3>& c) {
+  auto f = [](std::uint8_t v) { return std::pow(v / 255.0f, 2.2f); };
+  return {f(c[0]), f(c[1]), f(c[2])};
+}
+std::uint8_t linear_to_srgb(float v) {
+  v = v * (1.0f + v / 4.0f) / (1.0f + v);  // gentle highlight roll-off (white at 2)
+  return std::uint8_t(std::lround(255.0f * std::pow(std::clamp(v, 0.0f, 1.0f), 1.0f / 2.2f)));
+}
+
+// Albedo and shading normal at a hit on the object.
+using SurfaceAt = std::function<void(const RTCHit&, Vec3f& albedo, Vec3f& normal)>;
+
+void orthonormal_basis(const Vec3f& n, Vec3f& t, Vec3f& b) {
+  t = (std::abs(n.x()) > 0.5f ? Vec3f(0, 1, 0) : Vec3f(1, 0, 0)).cross(n).normalized();
+  b = n.cross(t);
+}
+
+bool occluded(RTCScene scene, const Vec3f& o, const Vec3f& d, float far) {
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  RTCRay ray{};
+  ray.org_x = o.x(), ray.org_y = o.y(), ray.org_z = o.z();
+  ray.dir_x = d.x(), ray.dir_y = d.y(), ray.dir_z = d.z();
+  ray.tnear = 0, ray.tfar = far, ray.mask = 0xffffffffu, ray.flags = 0, ray.time = 0;
+  rtcOccluded1(scene, &ctx, &ray);
+  return ray.tfar < 0;
+}
+
+void draw_colour_bar(Image& img, const ColourBar& bar, const TextRenderer& text) {
+  const int x0 = img.width - 110, x1 = x0 + 22, y0 = img.height / 5, y1 = img.height * 4 / 5;
+  for (int y = y0; y <= y1; ++y) {
+    const auto c = surface::palette_colour(bar.palette, bar.palette_offset + bar.palette_scale * double(y1 - y) / double(y1 - y0));
+    for (int x = x0; x <= x1; ++x) img.set(x, y, c);
+  }
+  for (int y = y0 - 1; y <= y1 + 1; ++y) img.set(x0 - 1, y, {40, 40, 40}), img.set(x1 + 1, y, {40, 40, 40});
+  for (int x = x0 - 1; x <= x1 + 1; ++x) img.set(x, y0 - 1, {40, 40, 40}), img.set(x, y1 + 1, {40, 40, 40});
+  const auto ticks = nice_ticks(bar.low, bar.high, 5);
+  const double step = ticks.size() > 1 ? ticks[1] - ticks[0] : 1;
+  const int decimals = std::max(0, int(-std::floor(std::log10(step) + 1e-9)));
+  for (double t : ticks) {
+    if (t < bar.low - 1e-9 * step || t > bar.high + 1e-9 * step) continue;
+    const int y = y1 - int(std::lround((t - bar.low) / (bar.high - bar.low) * (y1 - y0)));
+    for (int x = x1 + 1; x <= x1 + 6; ++x) img.set(x, y, {40, 40, 40});
+    text.draw(img, x1 + 9, y + 5, fmt::format("{:.{}f}", t, std::min(decimals, 6)), 14, {30, 30, 30});
+  }
+  text.draw(img, (x0 + x1) / 2, y0 - 14, bar.label, 15, {30, 30, 30}, Align::centre);
+}
+
+Image trace(RayScene& rs, const Aabb& box, const RenderSettings& s, const SurfaceAt& surface_at, const TextRenderer& text,
+            const ColourBar* bar, const std::string& caption) {
+  const float ground_y = float(box.min.y());
+  const Real radius = std::max(0.5 * box.extent().norm(), 1e-4);
+  {
+    // A ground plane under the bodies, large enough to reach the horizon haze.
+    const float g = float(60 * radius);
+    const Vec3 c = 0.5 * (box.min + box.max);
+    const float cx = float(c.x()), cz = float(c.z()), y = ground_y - float(1e-4 * radius);
+    rs.ground = rs.add_triangles({Vec3f(cx - g, y, cz - g), Vec3f(cx + g, y, cz - g), Vec3f(cx + g, y, cz + g), Vec3f(cx - g, y, cz + g)},
+                                 {{0, 2, 1}, {0, 3, 2}});
+  }
+  rtcCommitScene(rs.scene);
+  const Real aspect = Real(s.width) / Real(s.height);
+  const Camera cam = s.camera ? *s.camera : frame_camera(box, aspect);
+  const Vec3f eye = cam.position.cast<float>();
+  const Vec3f forward = (cam.look_at - cam.position).normalized().cast<float>();
+  Vec3f right = forward.cross(Vec3f(0, 1, 0));
+  if (right.norm() < 1e-6f) right = Vec3f(1, 0, 0);
+  right.normalize();
+  const Vec3f up = right.cross(forward);
+  const float tan_half = float(std::tan(0.5 * cam.field_of_view * kPi / 180.0));
+  // Lights placed relative to the camera: key from the upper left, fill from the right.
+  const Vec3f key = (-0.55f * right + 1.1f * Vec3f(0, 1, 0) - 0.45f * forward).normalized();
+  const Vec3f fill = (0.9f * right + 0.35f * Vec3f(0, 1, 0) - 0.6f * forward).normalized();
+  const Vec3f key_colour(1.05f, 1.0f, 0.93f), fill_colour(0.22f, 0.24f, 0.28f), sky_colour(0.42f, 0.45f, 0.5f);
+  const float eps = float(1e-4 * radius), ao_reach = float(0.6 * radius);
+  auto background = [&](const Vec3f& d) -> Vec3f {
+    const float t = std::clamp(d.y() * 1.5f, 0.0f, 1.0f);
+    return Vec3f(0.93f, 0.93f, 0.92f) * (1 - t) + Vec3f(0.62f, 0.70f, 0.80f) * t;
+  };
+  Image img(s.width, s.height);
+  const int n_side = std::max(1, int(std::lround(std::sqrt(double(s.samples)))));
+  parallel_for(std::size_t(s.height), [&](std::size_t row) {
+    const int y = int(row);
+    for (int x = 0; x < s.width; ++x) {
+      Random rng{static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y)};
+      Vec3f sum = Vec3f::Zero();
+      for (int k = 0; k < n_side * n_side; ++k) {
+        const float jx = (float(k % n_side) + rng.uniform()) / float(n_side), jy = (float(k / n_side) + rng.uniform()) / float(n_side);
+        const float px = (2.0f * (float(x) + jx) / float(s.width) - 1.0f) * tan_half * float(aspect);
+        const float py = (1.0f - 2.0f * (float(y) + jy) / float(s.height)) * tan_half;
+        const Vec3f dir = (forward + px * right + py * up).normalized();
+        RTCIntersectContext ctx;
+        rtcInitIntersectContext(&ctx);
+        RTCRayHit rh{};
+        rh.ray.org_x = eye.x(), rh.ray.org_y = eye.y(), rh.ray.org_z = eye.z();
+        rh.ray.dir_x = dir.x(), rh.ray.dir_y = dir.y(), rh.ray.dir_z = dir.z();
+        rh.ray.tnear = 0, rh.ray.tfar = std::numeric_limits<float>::infinity(), rh.ray.mask = 0xffffffffu;
+        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+        rtcIntersect1(rs.scene, &ctx, &rh);
+        if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
+          sum += background(dir);
+          continue;
+        }
+        const Vec3f p = eye + rh.ray.tfar * dir;
+        Vec3f albedo, n;
+        const bool ground = rh.hit.geomID == rs.ground;
+        if (ground) {
+          albedo = Vec3f(0.78f, 0.76f, 0.73f);
+          n = Vec3f(0, 1, 0);
+        } else {
+          surface_at(rh.hit, albedo, n);
+          if (n.dot(dir) > 0) n = -n;
+        }
+        const Vec3f o = p + eps * n;
+        Vec3f t, b;
+        orthonormal_basis(key, t, b);
+        float visible = 0;
+        for (int j = 0; j < s.shadow_samples; ++j) {
+          const float a = 6.2831853f * rng.uniform(), r = 0.06f * std::sqrt(rng.uniform());  // soft: a light of ~7°
+          const Vec3f l = (key + r * (std::cos(a) * t + std::sin(a) * b)).normalized();
+          if (!occluded(rs.scene, o, l, std::numeric_limits<float>::infinity())) visible += 1;
+        }
+        visible /= float(std::max(1, s.shadow_samples));
+        Vec3f nt, nb;
+        orthonormal_basis(n, nt, nb);
+        float open = 0;
+        for (int j = 0; j < s.occlusion_samples; ++j) {
+          const float a = 6.2831853f * rng.uniform(), r2 = rng.uniform(), r = std::sqrt(r2);
+          const Vec3f d = (r * std::cos(a) * nt + r * std::sin(a) * nb + std::sqrt(1 - r2) * n).normalized();
+          if (!occluded(rs.scene, o, d, ao_reach)) open += 1;
+        }
+        open = s.occlusion_samples > 0 ? open / float(s.occlusion_samples) : 1.0f;
+        Vec3f light = key_colour * (std::max(0.0f, n.dot(key)) * visible) + fill_colour * std::max(0.0f, n.dot(fill)) +
+                      sky_colour * ((0.6f + 0.4f * n.y()) * open);
+        Vec3f c = albedo.cwiseProduct(light);
+        if (!ground) {
+          const Vec3f h = (key - dir).normalized();
+          c += Vec3f::Constant(0.12f * visible * std::pow(std::max(0.0f, n.dot(h)), 30.0f));
+        } else {
+          const float haze = 1.0f - std::exp(-float((p - 0.5f * (box.min + box.max).cast<float>()).norm() / (12.0 * radius)));
+          c = c * (1 - haze) + background(dir) * haze;
+        }
+        sum += c;
+      }
+      sum /= float(n_side * n_side);
+      img.set(x, y, {linear_to_srgb(sum.x()), linear_to_srgb(sum.y()), linear_to_srgb(sum.z())});
+    }
+  }, 1);
+  if (bar) draw_colour_bar(img, *bar, text);
+  if (!caption.empty()) text.draw(img, 16, 30, caption, 18, {30, 30, 30});
+  return img;
+}
+
+}  // namespace
+
+Image render_mesh(const surface::SurfaceMesh& mesh, const RenderSettings& s, const TextRenderer& text, const ColourBar* bar,
+                  const std::string& caption) {
+  if (mesh.triangles.empty()) throw InputError("render", "the mesh is empty: nothing to draw");
+  RayScene rs;
+  rs.object = rs.add_triangles(mesh.vertices, mesh.triangles);
+  Aabb box = Aabb::empty_box();
+  for (const auto& v : mesh.vertices) box.expand(v.cast<Real>());
+  const bool colours = mesh.colours.size() == mesh.vertices.size();
+  const bool normals = mesh.normals.size() == mesh.vertices.size();
+  const auto surface_at = [&](const RTCHit& hit, Vec3f& albedo, Vec3f& n) {
+    const auto& t = mesh.triangles[hit.primID];
+    const float w0 = 1 - hit.u - hit.v;
+    if (colours)
+      albedo = w0 * srgb_to_linear(mesh.colours[t[0]]) + hit.u * srgb_to_linear(mesh.colours[t[1]]) + hit.v * srgb_to_linear(mesh.colours[t[2]]);
+    else
+      albedo = Vec3f(0.7f, 0.7f, 0.7f);
+    if (normals)
+      n = (w0 * mesh.normals[t[0]] + hit.u * mesh.normals[t[1]] + hit.v * mesh.normals[t[2]]).normalized();
+    else
+      n = Vec3f(hit.Ng_x, hit.Ng_y, hit.Ng_z).normalized();
+  };
+  return trace(rs, box, s, surface_at, text, bar, caption);
+}
+
+Image render_particles(const ParticleView& pv, const RenderSettings& s, const TextRenderer& text, const ColourBar* bar,
+                       const std::string& caption) {
+  if (pv.position.empty()) throw InputError("render", "the frame has no particles: nothing to draw");
+  RayScene rs;
+  rs.object = rs.add_spheres(pv.position, float(pv.radius));
+  Aabb box = Aabb::empty_box();
+  for (const auto& p : pv.position) box.expand(p);
+  box.min.array() -= pv.radius;
+  box.max.array() += pv.radius;
+  const auto surface_at = [&](const RTCHit& hit, Vec3f& albedo, Vec3f& n) {
+    albedo = hit.primID < pv.colour.size() ? srgb_to_linear(pv.colour[hit.primID]) : Vec3f(0.7f, 0.7f, 0.7f);
+    n = Vec3f(hit.Ng_x, hit.Ng_y, hit.Ng_z).normalized();
+  };
+  return trace(rs, box, s, surface_at, text, bar, caption);
+}
+
+}  // namespace bakesim::render

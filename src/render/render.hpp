@@ -1,0 +1,57 @@
+#pragma once
+// Pictures (Embree ray casting): a surface mesh shaded with its vertex
+// colours, or the particles as spheres coloured by a quantity with a colour
+// bar; both over a ground plane with soft shadows from a key light, a fill
+// light and sky light with ambient occlusion. The camera frames the bodies
+// automatically unless one is given. Pixels are computed independently with a
+// per-pixel random sequence, so a picture does not depend on the thread count.
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/types.hpp"
+#include "io/image.hpp"
+#include "render/text.hpp"
+#include "surface/surface.hpp"
+
+namespace bakesim::render {
+
+struct Camera {
+  Vec3 position = Vec3(0, 0, 1);
+  Vec3 look_at = Vec3::Zero();
+  Real field_of_view = 35;  // vertical, degrees
+};
+
+// A camera looking at the box from the front-right and above (y up), far
+// enough that the whole box fits the picture.
+Camera frame_camera(const Aabb& box, Real aspect, Real field_of_view = 35);
+
+struct RenderSettings {
+  int width = 1280, height = 720;
+  std::optional<Camera> camera;
+  int samples = 4;         // per pixel (a jittered 2×2 pattern for 4)
+  int shadow_samples = 2;  // key-light rays per sample
+  int occlusion_samples = 2;
+};
+
+struct ColourBar {
+  std::string label;
+  Real low = 0, high = 1;
+  surface::Palette palette = surface::Palette::heat;
+  Real palette_offset = 0, palette_scale = 1;  // value fraction f shows palette(offset + scale f)
+};
+
+struct ParticleView {
+  std::vector<Vec3> position;
+  std::vector<std::array<std::uint8_t, 3>> colour;
+  Real radius = 0.005;
+};
+
+Image render_mesh(const surface::SurfaceMesh& mesh, const RenderSettings& settings, const TextRenderer& text,
+                  const ColourBar* bar = nullptr, const std::string& caption = "");
+Image render_particles(const ParticleView& particles, const RenderSettings& settings, const TextRenderer& text,
+                       const ColourBar* bar = nullptr, const std::string& caption = "");
+
+}  // namespace bakesim::render

@@ -1,0 +1,194 @@
+#include "render/run_pictures.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+
+#include "core/errors.hpp"
+#include "io/files.hpp"
+
+namespace bakesim::render {
+
+namespace fs = std::filesystem;
+
+Image downscale(const Image& img, int f) {
+  Image out(std::max(1, img.width / f), std::max(1, img.height / f));
+  for (int y = 0; y < out.height; ++y)
+    for (int x = 0; x < out.width; ++x) {
+      int sum[3] = {0, 0, 0};
+      for (int j = 0; j < f; ++j)
+        for (int i = 0; i < f; ++i) {
+          const std::uint8_t* p = img.at(std::min(img.width - 1, x * f + i), std::min(img.height - 1, y * f + j));
+          for (int k = 0; k < 3; ++k) sum[k] += p[k];
+        }
+      out.set(x, y, {std::uint8_t(sum[0] / (f * f)), std::uint8_t(sum[1] / (f * f)), std::uint8_t(sum[2] / (f * f))});
+    }
+  return out;
+}
+
+namespace {
+
+bool has_program(const std::string& name) {
+  const char* path = std::getenv("PATH");
+  if (!path) return false;
+  std::string p = path;
+  std::size_t start = 0;
+  while (start <= p.size()) {
+    const std::size_t end = p.find(':', start);
+    const fs::path candidate = fs::path(p.substr(start, end - start)) / name;
+    std::error_code ec;
+    if (fs::is_regular_file(candidate, ec)) return true;
+    if (end == std::string::npos) break;
+    start = end + 1;
+  }
+  return false;
+}
+
+std::string shell_quote(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+}  // namespace
+
+RenderRunResult render_run(const fs::path& run_dir, const RenderRunOptions& o) {
+  if (o.mode != "mesh" && o.mode != "particles") throw InputError("render --mode", "must be mesh or particles, got '" + o.mode + "'");
+  const RunDirectory run = open_run(run_dir);
+  if (run.frames.empty()) throw InputError(run_dir.string(), "has no particle frames (frames/NNNNN.ply) to render");
+  const RunGeometry geometry = run_geometry(run.scene);
+  std::vector<int> frames;
+  if (o.all_frames) {
+    for (const auto& [f, path] : run.frames) frames.push_back(f);
+  } else if (o.frames.empty()) {
+    frames.push_back(run.frames.rbegin()->first);
+  } else {
+    for (int f : o.frames) {
+      if (!run.frames.count(f)) throw InputError("render --frame", fmt::format("{} has no frame {} (it has {} to {})", run_dir.string(), f, run.frames.begin()->first, run.frames.rbegin()->first));
+      frames.push_back(f);
+    }
+  }
+  RenderSettings settings;
+  const auto& r = run.scene.contains("render") ? run.scene["render"] : nlohmann::json::object();
+  settings.width = o.width.value_or(r.value("width", 1280));
+  settings.height = o.height.value_or(r.value("height", 720));
+  if (r.contains("camera")) {
+    const auto& c = r["camera"];
+    Camera cam;
+    cam.position = Vec3(c["position"][0].get<double>(), c["position"][1].get<double>(), c["position"][2].get<double>());
+    cam.look_at = Vec3(c["look_at"][0].get<double>(), c["look_at"][1].get<double>(), c["look_at"][2].get<double>());
+    cam.field_of_view = c.value("field_of_view", 35.0);
+    settings.camera = cam;
+  }
+  // One camera for the whole sequence: it frames every rendered frame's particles.
+  std::vector<ParticleSet> loaded;
+  if (!settings.camera) {
+    Aabb box = Aabb::empty_box();
+    for (int f : frames) {
+      const ParticleSet ps = read_particle_frame(run.frames.at(f));
+      for (const Vec3& x : ps.vector("position")) box.expand(x);
+    }
+    box.min.array() -= geometry.spacing;
+    box.max.array() += geometry.spacing;
+    settings.camera = frame_camera(box, Real(settings.width) / Real(settings.height));
+  }
+  const TextRenderer text;
+  MeshSettings mesh_opts;
+  mesh_opts.colour = o.colour;
+  mesh_opts.range = o.range;
+  mesh_opts.surface.method = o.method;
+  const fs::path out_dir = run_dir / "render";
+  ensure_directory(out_dir);
+  const std::string scene_name = run.scene.value("name", std::string("bake"));
+  const double fps = run.scene.contains("time") ? run.scene["time"].value("fps", 30.0) : 30.0;
+  const double bake_scale = run.scene.contains("environment") ? run.scene["environment"].value("bake_time_scale", 1.0) : 1.0;
+  const std::string stem = o.mode + "-" + o.colour;
+  RenderRunResult result;
+  for (int f : frames) {
+    const ParticleSet ps = read_particle_frame(run.frames.at(f));
+    const auto range = colour_range(ps, o.colour, o.range);
+    ColourBar bar;
+    bar.label = o.colour;
+    bar.low = range.first, bar.high = range.second;
+    bar.palette = colour_palette(o.colour);
+    const double bake = f / fps * bake_scale;
+    const std::string caption = fmt::format("{}   frame {}   bake {}", scene_name, f,
+                                            bake >= 120 ? fmt::format("{:.1f} min", bake / 60) : fmt::format("{:.2f} s", bake));
+    Image img;
+    if (o.mode == "mesh") {
+      const surface::SurfaceMesh mesh = frame_mesh(ps, geometry, mesh_opts);
+      // Dough vertices show palette(0.15 + 0.8 value) (Eq 4.7); the bar shows the same.
+      bar.palette_offset = 0.15, bar.palette_scale = 0.8;
+      img = render_mesh(mesh, settings, text, &bar, caption);
+    } else {
+      ParticleView pv;
+      pv.position = ps.vector("position");
+      const std::vector<Real> values = particle_values(ps, o.colour);
+      for (Real v : values) pv.colour.push_back(surface::palette_colour(bar.palette, (v - range.first) / (range.second - range.first)));
+      pv.radius = 0.5 * geometry.spacing;
+      img = render_particles(pv, settings, text, &bar, caption);
+    }
+    const fs::path file = out_dir / fmt::format("{}-{:05d}.png", stem, f);
+    write_file_atomic(file, encode_png(img));
+    result.images.push_back(file);
+  }
+  if (o.strip && !result.images.empty()) {
+    // Up to six frames, evenly spread, in a row of thirds of the picture size.
+    const std::size_t n = std::min<std::size_t>(6, result.images.size());
+    std::vector<Image> tiles;
+    for (std::size_t k = 0; k < n; ++k) {
+      const std::size_t i = n == 1 ? 0 : k * (result.images.size() - 1) / (n - 1);
+      const int f = frames[i];
+      // Rendered again at a third of the size (cheaper than keeping every full picture).
+      RenderSettings small = settings;
+      small.width = std::max(16, settings.width / 3), small.height = std::max(16, settings.height / 3);
+      const ParticleSet ps = read_particle_frame(run.frames.at(f));
+      const double bake = f / fps * bake_scale;
+      const std::string caption = bake >= 120 ? fmt::format("{:.1f} min", bake / 60) : fmt::format("{:.2f} s", bake);
+      if (o.mode == "mesh") {
+        tiles.push_back(render_mesh(frame_mesh(ps, geometry, mesh_opts), small, text, nullptr, caption));
+      } else {
+        ParticleView pv;
+        pv.position = ps.vector("position");
+        const auto range = colour_range(ps, o.colour, o.range);
+        for (Real v : particle_values(ps, o.colour)) pv.colour.push_back(surface::palette_colour(colour_palette(o.colour), (v - range.first) / (range.second - range.first)));
+        pv.radius = 0.5 * geometry.spacing;
+        tiles.push_back(render_particles(pv, small, text, nullptr, caption));
+      }
+    }
+    Image strip(int(n) * tiles[0].width, tiles[0].height);
+    for (std::size_t k = 0; k < n; ++k) strip.paste(tiles[k], int(k) * tiles[0].width, 0);
+    result.strip = out_dir / (stem + "-strip.png");
+    write_file_atomic(*result.strip, encode_png(strip));
+  }
+  if (o.movie) {
+    if (!has_program("ffmpeg")) {
+      result.note = "no movie: ffmpeg is not installed (apt-get install ffmpeg)";
+    } else if (result.images.size() < 2) {
+      result.note = "no movie: only one frame was rendered (use --all)";
+    } else {
+      const fs::path movie = out_dir / (stem + ".mp4");
+      const double movie_fps = std::clamp(fps, 1.0, 60.0);
+      // The concat demuxer takes the pictures in order whatever their numbers.
+      std::string list;
+      for (const auto& image : result.images) list += fmt::format("file {}\nduration {}\n", shell_quote(fs::absolute(image).string()), 1.0 / movie_fps);
+      list += fmt::format("file {}\n", shell_quote(fs::absolute(result.images.back()).string()));
+      const fs::path list_file = out_dir / (stem + ".ffconcat.txt");
+      write_file_atomic(list_file, list);
+      const std::string cmd = fmt::format(
+          "ffmpeg -y -loglevel error -f concat -safe 0 -i {} -r {} -c:v libx264 -pix_fmt yuv420p "
+          "-vf 'pad=ceil(iw/2)*2:ceil(ih/2)*2' {}",
+          shell_quote(list_file.string()), movie_fps, shell_quote(movie.string() + ".tmp.mp4"));
+      const int status = std::system(cmd.c_str());
+      fs::remove(list_file);
+      if (status != 0) throw IoError("ffmpeg failed to make " + movie.string());
+      fs::rename(movie.string() + ".tmp.mp4", movie);
+      result.movie = movie;
+    }
+  }
+  return result;
+}
+
+}  // namespace bakesim::render

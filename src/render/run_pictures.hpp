@@ -1,0 +1,40 @@
+#pragma once
+// `bakesim render RUN_DIR`: pictures of a run's frames into RUN_DIR/render/,
+//   mesh-COLOUR-NNNNN.png       the surface (meshed now from the particle frame)
+//   particles-COLOUR-NNNNN.png  the particles as spheres with a colour bar
+//   MODE-COLOUR.mp4             with --movie, when ffmpeg is installed
+//   MODE-COLOUR-strip.png       with --strip: up to six frames side by side
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "io/run_meshes.hpp"
+#include "render/render.hpp"
+
+namespace bakesim::render {
+
+struct RenderRunOptions {
+  std::vector<int> frames;             // empty: the last frame
+  bool all_frames = false;
+  std::string mode = "mesh";           // mesh or particles
+  std::string colour = "browning";
+  std::optional<std::pair<Real, Real>> range;
+  surface::SurfaceMethod method = surface::SurfaceMethod::levelset;
+  std::optional<int> width, height;    // override the scene's render size
+  bool movie = false, strip = false;
+};
+
+struct RenderRunResult {
+  std::vector<std::filesystem::path> images;
+  std::optional<std::filesystem::path> movie, strip;
+  std::string note;  // e.g. why no movie was made
+};
+
+RenderRunResult render_run(const std::filesystem::path& run_dir, const RenderRunOptions& options);
+
+// Shrinks an image by an integer factor (box filter).
+Image downscale(const Image& image, int factor);
+
+}  // namespace bakesim::render

@@ -1,0 +1,303 @@
+#include "surface/surface.hpp"
+
+#include <openvdb/openvdb.h>
+#include <openvdb/tools/Composite.h>
+#include <openvdb/tools/LevelSetFilter.h>
+#include <openvdb/tools/ParticlesToLevelSet.h>
+#include <openvdb/tools/VolumeToMesh.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <unordered_map>
+
+#include <Eigen/Geometry>
+#include <nanoflann.hpp>
+
+#include "core/errors.hpp"
+#include "core/parallel.hpp"
+
+namespace bakesim::surface {
+
+SurfaceMethod parse_surface_method(const std::string& name) {
+  if (name == "levelset") return SurfaceMethod::levelset;
+  if (name == "wyvill") return SurfaceMethod::wyvill;
+  throw InputError("surface method", "unknown method '" + name + "' (levelset or wyvill)");
+}
+
+std::string to_string(SurfaceMethod m) { return m == SurfaceMethod::levelset ? "levelset" : "wyvill"; }
+
+Real wyvill_interior_value(Real radius_over_spacing) {
+  // ∫₀¹ (1 − 4/9 t⁶ + 17/9 t⁴ − 22/9 t²) t² dt = 1/3 − 4/81 + 17/63 − 22/45
+  const Real moment = 1.0 / 3.0 - 4.0 / 81.0 + 17.0 / 63.0 - 22.0 / 45.0;
+  return 4.0 * kPi * moment * radius_over_spacing * radius_over_spacing * radius_over_spacing;
+}
+
+namespace {
+
+// Linear expansion c_i = (ρ0/ρ_i)^{1/3}, kept within a sane range so a stray
+// particle cannot blow a sphere up across the scene.
+Real linear_expansion(Real density_ratio) { return std::cbrt(std::clamp(density_ratio, 0.5, 8.0)); }
+
+// The particle list OpenVDB's rasteriser reads.
+struct SphereList {
+  using PosType = openvdb::Vec3R;
+  const SurfaceParticles* p;
+  Real radius_factor;  // × s
+  std::size_t size() const { return p->position.size(); }
+  void getPos(std::size_t n, openvdb::Vec3R& xyz) const {
+    const Vec3& x = p->position[n];
+    xyz = openvdb::Vec3R(x.x(), x.y(), x.z());
+  }
+  void getPosRad(std::size_t n, openvdb::Vec3R& xyz, openvdb::Real& radius) const {
+    getPos(n, xyz);
+    radius = radius_factor * p->spacing * linear_expansion(p->density_ratio[n]);
+  }
+};
+
+openvdb::FloatGrid::Ptr level_set(const SurfaceParticles& particles, const SurfaceOptions& o, Real voxel) {
+  auto grid = openvdb::createLevelSet<openvdb::FloatGrid>(voxel, 4.0);
+  openvdb::tools::ParticlesToLevelSet<openvdb::FloatGrid> raster(*grid);
+  raster.setRmin(0.5);  // voxels: keep every particle, even in a coarse grid
+  raster.rasterizeSpheres(SphereList{&particles, o.sphere_radius});
+  raster.finalize(true);
+  // Erode so the surface sits half a spacing outside the outer centres.
+  Real mean_expansion = 0;
+  for (Real r : particles.density_ratio) mean_expansion += linear_expansion(r);
+  mean_expansion /= Real(particles.density_ratio.size());
+  openvdb::tools::LevelSetFilter<openvdb::FloatGrid> filter(*grid);
+  filter.offset(float((o.sphere_radius - 0.5) * particles.spacing * mean_expansion));
+  for (int i = 0; i < o.smoothing_iterations; ++i) filter.meanCurvature();
+  return grid;
+}
+
+// Σ_i φ_W(|x − x_i|, b_i), stored negated so that inside is below the isovalue
+// as volume-to-mesh expects. Particles are rasterised in fixed chunks, each
+// into its own grid, and the grids are summed in chunk order: the result does
+// not depend on the thread count.
+openvdb::FloatGrid::Ptr wyvill_grid(const SurfaceParticles& particles, const SurfaceOptions& o, Real voxel) {
+  const std::size_t n = particles.position.size();
+  constexpr std::size_t kChunk = 8192;
+  const std::size_t chunks = (n + kChunk - 1) / kChunk;
+  const auto transform = openvdb::math::Transform::createLinearTransform(voxel);
+  std::vector<openvdb::FloatGrid::Ptr> grids(chunks);
+  tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
+    auto g = openvdb::FloatGrid::create(0.0f);
+    g->setTransform(transform->copy());
+    auto acc = g->getAccessor();
+    const std::size_t end = std::min(n, (c + 1) * kChunk);
+    for (std::size_t i = c * kChunk; i < end; ++i) {
+      const Vec3& x = particles.position[i];
+      const Real b = (o.wyvill_alpha + o.wyvill_beta * std::clamp(particles.density_ratio[i], 0.5, 8.0)) * particles.spacing;
+      const Vec3 lo = (x.array() - b) / voxel, hi = (x.array() + b) / voxel;
+      for (int k = int(std::ceil(lo.z())); k <= int(std::floor(hi.z())); ++k)
+        for (int j = int(std::ceil(lo.y())); j <= int(std::floor(hi.y())); ++j)
+          for (int l = int(std::ceil(lo.x())); l <= int(std::floor(hi.x())); ++l) {
+            const Real r = (Vec3(l, j, k) * voxel - x).norm();
+            if (r >= b) continue;
+            const openvdb::Coord ijk(l, j, k);
+            acc.setValue(ijk, acc.getValue(ijk) - float(wyvill_field(r, b)));
+          }
+    }
+    grids[c] = g;
+  });
+  for (std::size_t c = 1; c < chunks; ++c) openvdb::tools::compSum(*grids[0], *grids[c]);
+  return grids[0];
+}
+
+}  // namespace
+
+SurfaceMesh reconstruct_surface(const SurfaceParticles& particles, const SurfaceOptions& o) {
+  SurfaceMesh mesh;
+  if (particles.position.empty()) return mesh;
+  if (particles.density_ratio.size() != particles.position.size())
+    throw InputError("surface", "one density ratio per particle is needed");
+  if (!(particles.spacing > 0)) throw InputError("surface", "the particle spacing must be positive");
+  openvdb::initialize();
+  const Real voxel = o.voxel_ratio * particles.spacing;
+  openvdb::FloatGrid::Ptr grid;
+  double isovalue = 0;
+  if (o.method == SurfaceMethod::levelset) {
+    grid = level_set(particles, o, voxel);
+  } else {
+    grid = wyvill_grid(particles, o, voxel);
+    isovalue = -0.5 * wyvill_interior_value(o.wyvill_alpha + o.wyvill_beta);
+  }
+  std::vector<openvdb::Vec3s> points;
+  std::vector<openvdb::Vec3I> triangles;
+  std::vector<openvdb::Vec4I> quads;
+  openvdb::tools::volumeToMesh(*grid, points, triangles, quads, isovalue, 0.0, true);
+  mesh.vertices.reserve(points.size());
+  for (const auto& p : points) mesh.vertices.emplace_back(p.x(), p.y(), p.z());
+  mesh.triangles.reserve(triangles.size() + 2 * quads.size());
+  // OpenVDB's polygons wind clockwise seen from outside; ours wind counter-clockwise.
+  for (const auto& t : triangles) mesh.triangles.push_back({t[0], t[2], t[1]});
+  for (const auto& q : quads) {
+    // Split along the shorter diagonal.
+    const float d02 = (mesh.vertices[q[0]] - mesh.vertices[q[2]]).squaredNorm();
+    const float d13 = (mesh.vertices[q[1]] - mesh.vertices[q[3]]).squaredNorm();
+    if (d02 <= d13) {
+      mesh.triangles.push_back({q[0], q[2], q[1]});
+      mesh.triangles.push_back({q[0], q[3], q[2]});
+    } else {
+      mesh.triangles.push_back({q[0], q[3], q[1]});
+      mesh.triangles.push_back({q[1], q[3], q[2]});
+    }
+  }
+  // Volume-to-mesh winds level sets and plain scalar grids differently; the
+  // enclosed volume of a closed mesh is positive exactly when it is wound
+  // outward, so that settles it for either.
+  Real signed_volume = 0;
+  for (const auto& t : mesh.triangles)
+    signed_volume += mesh.vertices[t[0]].cast<Real>().dot(mesh.vertices[t[1]].cast<Real>().cross(mesh.vertices[t[2]].cast<Real>()));
+  if (signed_volume < 0)
+    for (auto& t : mesh.triangles) std::swap(t[1], t[2]);
+  compute_normals(mesh);
+  return mesh;
+}
+
+void compute_normals(SurfaceMesh& m) {
+  m.normals.assign(m.vertices.size(), Eigen::Vector3f::Zero());
+  for (const auto& t : m.triangles) {
+    const Eigen::Vector3f n = (m.vertices[t[1]] - m.vertices[t[0]]).cross(m.vertices[t[2]] - m.vertices[t[0]]);
+    for (auto v : t) m.normals[v] += n;  // area-weighted
+  }
+  for (auto& n : m.normals) {
+    const float len = n.norm();
+    n = len > 0 ? Eigen::Vector3f(n / len) : Eigen::Vector3f(0, 1, 0);
+  }
+}
+
+// ---- colouring --------------------------------------------------------------
+
+namespace {
+
+struct PointCloud {
+  const std::vector<Vec3>* pts;
+  std::size_t kdtree_get_point_count() const { return pts->size(); }
+  Real kdtree_get_pt(std::size_t i, std::size_t d) const { return (*pts)[i][Eigen::Index(d)]; }
+  template <class B>
+  bool kdtree_get_bbox(B&) const { return false; }
+};
+using KdTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<Real, PointCloud>, PointCloud, 3, std::size_t>;
+
+// Cubic spline kernel with support radius `support` (unnormalised: the sum is
+// Shepard-normalised, so the constant cancels).
+Real spline(Real r, Real support) {
+  const Real q = 2.0 * r / support;
+  if (q >= 2) return 0;
+  if (q >= 1) return 0.25 * (2 - q) * (2 - q) * (2 - q);
+  return 1 - 1.5 * q * q + 0.75 * q * q * q;
+}
+
+}  // namespace
+
+void assign_uv(SurfaceMesh& mesh, const ColourSamples& s, Real support) {
+  mesh.uv.assign(mesh.vertices.size(), 0.05f);
+  if (s.position.empty() || mesh.vertices.empty()) return;
+  PointCloud cloud{&s.position};
+  KdTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+  tree.buildIndex();
+  auto g = [&](std::size_t j) {
+    const Real offset = (!s.bubble.empty() && s.bubble[j]) ? 0.0 : 0.1;  // Eq 4.7's O
+    return offset + 0.8 * std::clamp(s.value[j], 0.0, 1.0) + 0.05;
+  };
+  parallel_for(mesh.vertices.size(), [&](std::size_t v) {
+    const Vec3 x = mesh.vertices[v].cast<Real>();
+    std::vector<std::pair<std::size_t, Real>> found;
+    tree.radiusSearch(x.data(), support * support, found, nanoflann::SearchParams(32, 0, false));
+    Real num = 0, den = 0;
+    for (const auto& f : found) {
+      const Real w = s.volume[f.first] * spline(std::sqrt(f.second), support);  // Eq 4.5
+      num += w * g(f.first);
+      den += w;
+    }
+    if (den > 0) {
+      mesh.uv[v] = float(num / den);
+    } else {
+      std::size_t nearest = 0;
+      Real d2 = 0;
+      tree.knnSearch(x.data(), 1, &nearest, &d2);
+      mesh.uv[v] = float(g(nearest));
+    }
+  }, 1024);
+}
+
+std::array<std::uint8_t, 3> palette_colour(Palette p, Real u) {
+  struct Stop {
+    Real at, r, g, b;
+  };
+  // baking: raw dough cream → golden → brown → burnt; heat: blue → red.
+  static const Stop baking[] = {{0.0, 0.96, 0.91, 0.78}, {0.2, 0.93, 0.84, 0.62}, {0.45, 0.85, 0.62, 0.30},
+                                {0.7, 0.62, 0.36, 0.13}, {1.0, 0.25, 0.12, 0.05}};
+  static const Stop heat[] = {{0.0, 0.19, 0.25, 0.68}, {0.25, 0.27, 0.62, 0.85}, {0.5, 0.95, 0.93, 0.75},
+                              {0.75, 0.97, 0.55, 0.25}, {1.0, 0.70, 0.05, 0.10}};
+  const Stop* stops = p == Palette::baking ? baking : heat;
+  u = std::clamp(u, 0.0, 1.0);
+  int k = 0;
+  while (k < 3 && u > stops[k + 1].at) ++k;
+  const Real t = (u - stops[k].at) / (stops[k + 1].at - stops[k].at);
+  auto mix = [&](Real a, Real b) { return std::uint8_t(std::lround(255.0 * (a + (b - a) * t))); };
+  return {mix(stops[k].r, stops[k + 1].r), mix(stops[k].g, stops[k + 1].g), mix(stops[k].b, stops[k + 1].b)};
+}
+
+void colour_vertices(SurfaceMesh& mesh, Palette p) {
+  mesh.colours.resize(mesh.vertices.size());
+  for (std::size_t v = 0; v < mesh.vertices.size(); ++v) mesh.colours[v] = palette_colour(p, v < mesh.uv.size() ? mesh.uv[v] : 0.0);
+}
+
+// ---- checks -----------------------------------------------------------------
+
+MeshQuality check_mesh(const SurfaceMesh& m) {
+  MeshQuality q;
+  // Directed edge counts: a closed oriented 2-manifold has every edge once in
+  // each direction.
+  std::unordered_map<std::uint64_t, int> directed;
+  directed.reserve(m.triangles.size() * 3);
+  auto key = [](std::uint32_t a, std::uint32_t b) { return (std::uint64_t(a) << 32) | b; };
+  for (const auto& t : m.triangles)
+    for (int e = 0; e < 3; ++e) ++directed[key(t[e], t[(e + 1) % 3])];
+  for (const auto& [k, count] : directed) {
+    const std::uint32_t a = std::uint32_t(k >> 32), b = std::uint32_t(k & 0xffffffffu);
+    const auto rev = directed.find(key(b, a));
+    const int back = rev == directed.end() ? 0 : rev->second;
+    if (a < b || back == 0) {  // count each undirected edge once
+      const int total = count + back;
+      if (total == 1) ++q.boundary_edges;
+      else if (total > 2) ++q.non_manifold_edges;
+      else if (count != 1 || back != 1) ++q.misoriented_edges;
+    }
+  }
+  for (const auto& t : m.triangles) {
+    const Vec3 a = m.vertices[t[0]].cast<Real>(), b = m.vertices[t[1]].cast<Real>(), c = m.vertices[t[2]].cast<Real>();
+    q.volume += a.dot(b.cross(c)) / 6.0;
+    q.area += 0.5 * (b - a).cross(c - a).norm();
+  }
+  return q;
+}
+
+namespace {
+Real one_sided(const SurfaceMesh& from, const SurfaceMesh& to) {
+  std::vector<Vec3> pts(to.vertices.size());
+  for (std::size_t i = 0; i < pts.size(); ++i) pts[i] = to.vertices[i].cast<Real>();
+  PointCloud cloud{&pts};
+  KdTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+  tree.buildIndex();
+  Real worst = 0;
+  for (const auto& v : from.vertices) {
+    const Vec3 x = v.cast<Real>();
+    std::size_t idx = 0;
+    Real d2 = 0;
+    tree.knnSearch(x.data(), 1, &idx, &d2);
+    worst = std::max(worst, d2);
+  }
+  return std::sqrt(worst);
+}
+}  // namespace
+
+Real hausdorff_distance(const SurfaceMesh& a, const SurfaceMesh& b) {
+  if (a.vertices.empty() || b.vertices.empty()) return std::numeric_limits<Real>::infinity();
+  return std::max(one_sided(a, b), one_sided(b, a));
+}
+
+}  // namespace bakesim::surface

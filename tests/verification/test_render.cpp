@@ -1,0 +1,118 @@
+// Pictures and plots (src/render): a rendered sphere coloured hot on one side
+// is not blank and its hot side is browner than its cold side; particle mode
+// draws a colour bar; plots of a stats table put their lines where the data are.
+#include <gtest/gtest.h>
+
+#include <tbb/global_control.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "render/plot.hpp"
+#include "render/render.hpp"
+
+using namespace bakesim;
+using namespace bakesim::render;
+
+namespace {
+
+surface::SurfaceParticles ball(Real radius, Real s) {
+  surface::SurfaceParticles p;
+  p.spacing = s;
+  const int n = int(std::ceil(radius / s)) + 1;
+  for (int i = -n; i <= n; ++i)
+    for (int j = -n; j <= n; ++j)
+      for (int k = -n; k <= n; ++k) {
+        const Vec3 x = (Vec3(i, j, k) + Vec3::Constant(0.5)) * s;
+        if (x.norm() < radius) p.position.push_back(x + Vec3(0, radius, 0)), p.density_ratio.push_back(1.0);
+      }
+  return p;
+}
+
+// Mean "brownness" (how far below cream white) of pixels in a column range.
+double brownness(const Image& img, int x0, int x1) {
+  double sum = 0;
+  int n = 0;
+  for (int y = 0; y < img.height; ++y)
+    for (int x = x0; x < x1; ++x) {
+      const std::uint8_t* p = img.at(x, y);
+      // Object pixels: the background and ground are grey (r ≈ g ≈ b).
+      if (std::abs(int(p[0]) - int(p[2])) < 25) continue;
+      sum += 255.0 - (p[1] + p[2]) / 2.0;  // browns lose green and blue
+      ++n;
+    }
+  return n > 0 ? sum / n : 0;
+}
+
+}  // namespace
+
+TEST(Render, HotSideOfAColouredSphereIsBrowner) {
+  const Real s = 0.004;
+  const auto p = ball(0.04, s);
+  surface::SurfaceMesh mesh = surface::reconstruct_surface(p, {});
+  surface::ColourSamples samples;
+  samples.position = p.position;
+  samples.volume.assign(p.position.size(), s * s * s);
+  // Browning rises from 0 on the left (−x) to 1 on the right (+x).
+  for (const Vec3& x : p.position) samples.value.push_back(std::clamp(0.5 + x.x() / 0.08, 0.0, 1.0));
+  surface::assign_uv(mesh, samples, 2 * s);
+  surface::colour_vertices(mesh, surface::Palette::baking);
+  RenderSettings settings;
+  settings.width = 320, settings.height = 240;
+  // Looking straight at the sphere along −z: +x is the picture's right half.
+  settings.camera = Camera{Vec3(0, 0.04, 0.35), Vec3(0, 0.04, 0), 30};
+  const TextRenderer text;
+  const Image img = render_mesh(mesh, settings, text);
+  ASSERT_EQ(img.width, 320);
+  // Not blank: many distinct colours, and object pixels on both halves.
+  int object = 0;
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) object += std::abs(int(img.at(x, y)[0]) - int(img.at(x, y)[2])) >= 25;
+  EXPECT_GT(object, 320 * 240 / 20);
+  const double left = brownness(img, 0, 160), right = brownness(img, 160, 320);
+  EXPECT_GT(right, left + 30) << "hot (right) side " << right << ", cold (left) side " << left;
+}
+
+TEST(Render, ParticlesWithAColourBarAndTheSameImageOnAnyThreadCount) {
+  ParticleView pv;
+  for (int i = 0; i < 200; ++i) {
+    pv.position.push_back(Vec3(0.001 * (i % 20), 0.001 * (i / 20), 0));
+    pv.colour.push_back(surface::palette_colour(surface::Palette::heat, i / 199.0));
+  }
+  pv.radius = 0.0005;
+  RenderSettings settings;
+  settings.width = 200, settings.height = 120;
+  const TextRenderer text;
+  const ColourBar bar{"temperature", 20, 220, surface::Palette::heat};
+  const Image a = render_particles(pv, settings, text, &bar);
+  // The colour bar's top is the palette's hot end (red dominant).
+  const std::uint8_t* top = a.at(a.width - 110 + 11, a.height / 5 + 2);
+  EXPECT_GT(int(top[0]), int(top[2]) + 80);
+  Image b;
+  {
+    tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+    b = render_particles(pv, settings, text, &bar);
+  }
+  EXPECT_EQ(a.rgb, b.rgb);
+}
+
+TEST(Plot, NiceTicksAndALineWhereTheDataAre) {
+  const auto t = nice_ticks(0.0, 27.3);
+  ASSERT_GE(t.size(), 4u);
+  EXPECT_DOUBLE_EQ(t.front(), 0.0);
+  EXPECT_NEAR(t[1] - t[0], 5.0, 1e-12);
+  PlotSpec spec{"test", "x", "y", {{"flat", {0, 1, 2}, {5, 5, 5}}}, 400, 300};
+  spec.series.push_back({"other", {0, 2}, {0, 10}});
+  const TextRenderer text;
+  const Image img = plot_lines(spec, text);
+  // The flat line at y = 5 sits at the middle height of the axes: some pixel
+  // of the first series' colour (31, 119, 180) lies near it.
+  int found = 0;
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 200; x < 380; ++x) {
+      const std::uint8_t* p = img.at(x, y);
+      if (std::abs(p[0] - 31) < 20 && std::abs(p[1] - 119) < 20 && std::abs(p[2] - 180) < 20) found = std::max(found, y);
+    }
+  const int top = 50, bottom = 300 - 70;
+  EXPECT_NEAR(found, (top + bottom) / 2, 12);
+}
