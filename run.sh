@@ -6,5 +6,13 @@ cd "$(dirname "$0")"
 ./scripts/build.sh
 SCENE="${1:-scenes/bread-roll.json}"
 NAME="$(basename "$SCENE" .json)"
-./build/app/bakesim run "$SCENE" --out "out/$NAME"
-echo "Frames, particles.pvd and stats.csv are in out/$NAME/ (open particles.pvd in ParaView)."
+B=./build/app/bakesim
+OUT="out/$NAME"
+$B run "$SCENE" --out "$OUT"
+$B mesh "$OUT"                                  # surface meshes of every frame: meshes/NNNNN.ply, .obj
+$B render "$OUT" --all --width 640 --height 360 --strip --movie  # small pictures of every frame, a strip, an MP4 if ffmpeg is there
+$B render "$OUT"                                # the final frame at full size
+$B render "$OUT" --mode particles --color temperature
+$B plot "$OUT" >/dev/null                       # plots/temperatures.png, volume.png, height.png
+echo "In $OUT/: render/ (pictures, strip, movie), meshes/ (PLY, OBJ+MTL for Blender or Houdini),"
+echo "plots/ (probe temperatures, volume, height), frames/ + particles.pvd (ParaView), stats.csv."

@@ -90,7 +90,7 @@ struct MeshArgs {
   std::string colour = "browning";
   std::string range;
   std::vector<int> frames;
-  double voxel_ratio = 0.5;
+  double voxel_ratio = 0;
   int threads = 0;
 };
 
@@ -195,7 +195,7 @@ int main(int argc, char** argv) {
   mesh->add_option("--color,--colour", mesh_args.colour, "Quantity the vertices are coloured by: browning (default), temperature, saturation, ...");
   mesh->add_option("--range", mesh_args.range, "LOW,HIGH of the colour quantity (default: browning 0,1; temperature 20,220)");
   mesh->add_option("--frame", mesh_args.frames, "Frame numbers to mesh (default: all)");
-  mesh->add_option("--voxel", mesh_args.voxel_ratio, "Voxel size as a fraction of the particle spacing")->check(CLI::Range(0.1, 2.0));
+  mesh->add_option("--voxel", mesh_args.voxel_ratio, "Voxel size as a fraction of the particle spacing (default: levelset 0.75, wyvill 0.5)")->check(CLI::Range(0.1, 2.0));
   mesh->add_option("--threads,-j", mesh_args.threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 4096));
 
   render::RenderRunOptions render_opt;

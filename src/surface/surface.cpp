@@ -56,12 +56,13 @@ struct SphereList {
 };
 
 openvdb::FloatGrid::Ptr level_set(const SurfaceParticles& particles, const SurfaceOptions& o, Real voxel) {
-  auto grid = openvdb::createLevelSet<openvdb::FloatGrid>(voxel, 4.0);
+  // The union of spheres is only a distance near each sphere's surface; the
+  // erosion (LevelSetFilter::offset) re-normalises it as it goes.
+  auto grid = openvdb::createLevelSet<openvdb::FloatGrid>(voxel, 3.0);
   openvdb::tools::ParticlesToLevelSet<openvdb::FloatGrid> raster(*grid);
   raster.setRmin(0.5);  // voxels: keep every particle, even in a coarse grid
   raster.rasterizeSpheres(SphereList{&particles, o.sphere_radius});
   raster.finalize(true);
-  // Erode so the surface sits half a spacing outside the outer centres.
   Real mean_expansion = 0;
   for (Real r : particles.density_ratio) mean_expansion += linear_expansion(r);
   mean_expansion /= Real(particles.density_ratio.size());
@@ -114,7 +115,8 @@ SurfaceMesh reconstruct_surface(const SurfaceParticles& particles, const Surface
     throw InputError("surface", "one density ratio per particle is needed");
   if (!(particles.spacing > 0)) throw InputError("surface", "the particle spacing must be positive");
   openvdb::initialize();
-  const Real voxel = o.voxel_ratio * particles.spacing;
+  const Real ratio = o.voxel_ratio > 0 ? o.voxel_ratio : (o.method == SurfaceMethod::levelset ? 0.75 : 0.5);
+  const Real voxel = ratio * particles.spacing;
   openvdb::FloatGrid::Ptr grid;
   double isovalue = 0;
   if (o.method == SurfaceMethod::levelset) {

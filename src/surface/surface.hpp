@@ -5,10 +5,10 @@
 // Two methods, both polygonised by OpenVDB's volume-to-mesh (a marching-cubes
 // family polygoniser; its quads are split into triangles):
 //   levelset  (default) each particle is a sphere of radius 1.5 s·c_i
-//             rasterised into a narrow-band level set (union), then eroded by
-//             s·c̄ and smoothed by mean-curvature flow: a morphological closing
-//             that leaves the surface half a spacing outside the outer particle
-//             centres, where the material boundary is.
+//             rasterised into a narrow-band level set (union), meshed at the
+//             level −s·c̄ (an erosion): a morphological closing that smooths the
+//             sphere bumps and leaves the surface half a spacing outside the
+//             outer particle centres, where the material boundary is.
 //   wyvill    the thesis's field: φ(x) = Σ_i φ_W(|x − x_i|, b_i) with the
 //             Wyvill–McPheeters–Wyvill polynomial (Eq 3.59) and the
 //             density-adaptive radius b_i = α + β ρ0/ρ_i (Eq 3.60), meshed at
@@ -44,10 +44,10 @@ std::string to_string(SurfaceMethod m);
 
 struct SurfaceOptions {
   SurfaceMethod method = SurfaceMethod::levelset;
-  Real voxel_ratio = 0.5;  // voxel size / s
+  Real voxel_ratio = 0;  // voxel size / s; 0: the method's default (levelset 0.75, wyvill 0.5)
   // levelset
   Real sphere_radius = 1.5;        // × s c_i
-  int smoothing_iterations = 3;    // mean-curvature flow steps after the erosion
+  int smoothing_iterations = 0;    // mean-curvature flow steps before meshing (slow; the closing already smooths)
   // wyvill (Eq 3.60: b_i = (α + β ρ0/ρ_i) s)
   Real wyvill_alpha = 1.0;
   Real wyvill_beta = 1.0;
