@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include "io/binary.hpp"
+
 #include <cstring>
 
 namespace bakesim {
@@ -9,9 +11,7 @@ namespace bakesim {
 namespace {
 template <class T>
 void put(std::string& out, T v) {
-  char buf[sizeof(T)];
-  std::memcpy(buf, &v, sizeof(T));
-  out.append(buf, sizeof(T));
+  put_bytes(out, v);
 }
 }  // namespace
 

@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include "io/binary.hpp"
+
 #include <bit>
 #include <cstring>
 
@@ -12,9 +14,7 @@ static_assert(std::endian::native == std::endian::little, "frame writers assume 
 
 template <class T>
 void put(std::string& out, T v) {
-  char buf[sizeof(T)];
-  std::memcpy(buf, &v, sizeof(T));
-  out.append(buf, sizeof(T));
+  put_bytes(out, v);
 }
 
 }  // namespace

@@ -3,15 +3,35 @@
 // step solvers to a given time.
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <fstream>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "io/scene.hpp"
+#include "surface/surface.hpp"
 #include "sph/solver.hpp"
 
 namespace bakesim::test_support {
+
+// Lattice particles inside a ball, as the scene sampler fills a body (each
+// stands for a cube of side s), shifted by `centre`, spread by ρ0/ρ.
+inline surface::SurfaceParticles lattice_ball(Real radius, Real s, Vec3 centre, Real density_ratio = 1.0) {
+  surface::SurfaceParticles p;
+  p.spacing = s;
+  const int n = int(std::ceil(radius / s)) + 1;
+  for (int i = -n; i <= n; ++i)
+    for (int j = -n; j <= n; ++j)
+      for (int k = -n; k <= n; ++k) {
+        const Vec3 x = (Vec3(i, j, k) + Vec3::Constant(0.5)) * s;
+        if (x.norm() < radius) {
+          p.position.push_back(centre + x * std::cbrt(density_ratio));
+          p.density_ratio.push_back(density_ratio);
+        }
+      }
+  return p;
+}
 
 inline std::unique_ptr<sph::SphSolver> make_sph(const nlohmann::json& doc) {
   Scene scene = parse_scene(doc.dump(), "test-scene.json", ".");

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "helpers.hpp"
 #include "render/plot.hpp"
 #include "render/render.hpp"
 
@@ -16,18 +17,7 @@ using namespace bakesim::render;
 
 namespace {
 
-surface::SurfaceParticles ball(Real radius, Real s) {
-  surface::SurfaceParticles p;
-  p.spacing = s;
-  const int n = int(std::ceil(radius / s)) + 1;
-  for (int i = -n; i <= n; ++i)
-    for (int j = -n; j <= n; ++j)
-      for (int k = -n; k <= n; ++k) {
-        const Vec3 x = (Vec3(i, j, k) + Vec3::Constant(0.5)) * s;
-        if (x.norm() < radius) p.position.push_back(x + Vec3(0, radius, 0)), p.density_ratio.push_back(1.0);
-      }
-  return p;
-}
+surface::SurfaceParticles ball(Real radius, Real s) { return test_support::lattice_ball(radius, s, Vec3(0, radius, 0)); }
 
 // Mean "brownness" (how far below cream white) of pixels in a column range.
 double brownness(const Image& img, int x0, int x1) {

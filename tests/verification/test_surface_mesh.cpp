@@ -7,6 +7,7 @@
 
 #include <cmath>
 
+#include "helpers.hpp"
 #include "surface/surface.hpp"
 
 using namespace bakesim;
@@ -14,22 +15,8 @@ using namespace bakesim::surface;
 
 namespace {
 
-// Lattice particles inside a ball, as the scene sampler fills a body: each
-// particle stands for a cube of side s, so the body's volume is N s³.
 SurfaceParticles ball(Real radius, Real s, Vec3 centre, Real density_ratio = 1.0) {
-  SurfaceParticles p;
-  p.spacing = s;
-  const int n = int(std::ceil(radius / s)) + 1;
-  for (int i = -n; i <= n; ++i)
-    for (int j = -n; j <= n; ++j)
-      for (int k = -n; k <= n; ++k) {
-        const Vec3 x = (Vec3(i, j, k) + Vec3::Constant(0.5)) * s;
-        if (x.norm() < radius) {
-          p.position.push_back(centre + x * std::cbrt(density_ratio));
-          p.density_ratio.push_back(density_ratio);
-        }
-      }
-  return p;
+  return test_support::lattice_ball(radius, s, centre, density_ratio);
 }
 
 void expect_closed_sphere(SurfaceMethod method) {
