@@ -31,9 +31,9 @@ def run_dir_from_argv():
 def import_ply(path):
     """Imports one PLY and returns the new object (both importer generations)."""
     before = set(bpy.data.objects)
-    if hasattr(bpy.ops.wm, "ply_import"):  # Blender 3.6+/4.x
+    try:  # Blender 3.6+/4.x (operator look-ups are lazy: only calling tells)
         bpy.ops.wm.ply_import(filepath=path)
-    else:  # Blender ≤ 3.5
+    except AttributeError:  # Blender ≤ 3.5
         bpy.ops.import_mesh.ply(filepath=path)
     new = [o for o in bpy.data.objects if o not in before]
     return new[0] if new else None
