@@ -1,12 +1,18 @@
 // bakesim command line: a thin front end over the library. Turns exceptions
 // into messages and exit codes: 0 ok, 1 runtime or I/O failure, 2 bad input,
-// 3 the simulation reached an invalid state.
+// 3 the simulation reached an invalid state, 128 + N stopped by signal N
+// (SIGINT, SIGTERM) after writing a checkpoint.
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 #include <tbb/global_control.h>
 #include <tbb/info.h>
 
+#include <atomic>
 #include <cmath>
+#include <csignal>
+#include <fstream>
+#include <optional>
+#include <sstream>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -14,6 +20,7 @@
 #include "bench.hpp"
 #include "core/errors.hpp"
 #include "core/progress.hpp"
+#include "io/checkpoint.hpp"
 #include "io/run_meshes.hpp"
 #include "io/run_output.hpp"
 #include "io/scene.hpp"
@@ -31,10 +38,23 @@ constexpr int kExitOk = 0, kExitFailure = 1, kExitBadInput = 2, kExitSimulation 
 struct RunArgs {
   std::string scene;
   std::string out;
+  std::string resume;
   int threads = 0;
   double end_time = -1;
+  int checkpoint_frames = -1;     // -1: the scene's output.checkpoint
+  double checkpoint_minutes = -1;
   bool quiet = false;
 };
+
+// SIGINT/SIGTERM: the first asks the run to stop after the current frame
+// (with a checkpoint); a second one ends the process at once.
+std::atomic<int> g_stop_signal{0};
+extern "C" void on_stop_signal(int sig) {
+  if (g_stop_signal.exchange(sig) != 0) {
+    std::signal(sig, SIG_DFL);
+    std::raise(sig);
+  }
+}
 
 int command_validate(const std::string& path) {
   Scene scene = load_scene(path);
@@ -44,8 +64,44 @@ int command_validate(const std::string& path) {
   return kExitOk;
 }
 
+std::string read_text(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  if (!in) throw InputError(p.string(), "cannot be read");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
 int command_run(const RunArgs& a) {
-  Scene scene = load_scene(a.scene);
+  // A resumed run reads its resolved scene and newest valid checkpoint.
+  std::optional<Checkpoint> checkpoint;
+  std::vector<std::string> refused;
+  fs::path checkpoint_file;
+  Scene scene;
+  std::string scene_dir;
+  if (!a.resume.empty()) {
+    const fs::path dir = a.resume;
+    if (!fs::is_regular_file(dir / "scene.json")) throw InputError(a.resume, "not a run directory (no scene.json)");
+    for (const auto& file : list_checkpoints(dir)) {
+      try {
+        checkpoint = decode_checkpoint(read_text(file), file.string());
+        checkpoint_file = file;
+        break;
+      } catch (const InputError& e) {
+        refused.push_back(e.what());
+      }
+    }
+    if (!checkpoint)
+      throw InputError(a.resume, refused.empty() ? "has no checkpoint to resume from (checkpoints/*.ckpt)"
+                                                 : "no valid checkpoint: " + refused.front());
+    scene_dir = checkpoint->scene_dir;
+    scene = parse_scene(read_text(dir / "scene.json"), (dir / "scene.json").string(), scene_dir);
+    if (scene_fingerprint(scene.resolved) != checkpoint->scene_fingerprint)
+      throw InputError(checkpoint_file.string(), "checkpoint of a different scene than " + (dir / "scene.json").string());
+  } else {
+    scene = load_scene(a.scene);
+    scene_dir = fs::absolute(fs::path(a.scene)).parent_path().string();
+  }
   if (a.end_time > 0) {
     scene.end_time = a.end_time;
     scene.resolved["time"]["end"] = a.end_time;
@@ -54,27 +110,78 @@ int command_run(const RunArgs& a) {
   const int threads = a.threads > 0 ? a.threads : hw;
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
 
-  const fs::path out = a.out.empty() ? fs::path("out") / scene.name : fs::path(a.out);
+  const fs::path out = !a.resume.empty() ? fs::path(a.resume) : a.out.empty() ? fs::path("out") / scene.name : fs::path(a.out);
   RunLog log(!a.quiet);
   auto& L = log.logger();
-  L.info("bakesim {} run of {} ({} threads of {})", BAKESIM_VERSION, a.scene, threads, hw);
+  if (!a.resume.empty()) {
+    std::ifstream old(out / "log.txt");
+    if (old) L.info("(log of the run before the resume follows)\n{}", read_text(out / "log.txt"));
+  }
+  L.info("bakesim {} run of {} ({} threads of {})", BAKESIM_VERSION, a.resume.empty() ? a.scene : a.resume, threads, hw);
   auto solver = make_solver(scene);
   L.info("{} particles; output in {}", solver->particles().size(), out.string());
   RunOutput output(out, scene, log);
-  ProgressBar progress(stderr, !a.quiet);
   FrameLoopConfig cfg{scene.end_time, scene.fps};
+  for (const auto& r : refused) L.warn("refused checkpoint: {}", r);
+  if (checkpoint) {
+    restore_checkpoint(*solver, *checkpoint, checkpoint_file.string());
+    output.resume_after(checkpoint->frame, checkpoint->follow_ids);
+    cfg.start_frame = checkpoint->frame;
+    cfg.start_steps = checkpoint->steps;
+    cfg.start_last_dt = checkpoint->last_dt;
+    L.info("resumed from {} (frame {}, t = {:.6g} s, {} steps)", checkpoint_file.string(), checkpoint->frame, solver->time(), checkpoint->steps);
+  }
+  const auto& ck = scene.resolved["output"]["checkpoint"];
+  const int every_frames = a.checkpoint_frames >= 0 ? a.checkpoint_frames : ck["every_frames"].get<int>();
+  const double every_minutes = a.checkpoint_minutes >= 0 ? a.checkpoint_minutes : ck["every_minutes"].get<double>();
+  const std::string fingerprint = scene_fingerprint(scene.resolved);
+  Stopwatch since_checkpoint;
+  auto save = [&](const FrameInfo& info, const Solver& s) {
+    Checkpoint c = capture_checkpoint(s);
+    c.scene_fingerprint = fingerprint;
+    c.scene_dir = scene_dir;
+    c.frame = info.frame;
+    c.steps = info.steps;
+    c.last_dt = info.last_dt;
+    c.follow_ids = output.follow_ids();
+    const fs::path file = write_checkpoint(out, c);
+    L.info("checkpoint {} (frame {})", file.string(), info.frame);
+    since_checkpoint.restart();
+  };
+  const int total_frames = std::max(1, static_cast<int>(std::ceil(scene.end_time * scene.fps - 1e-9)));
+  cfg.after_frame = [&](const FrameInfo& info, const Solver& s) {
+    const bool stop = g_stop_signal.load() != 0;
+    const bool due = (every_frames > 0 && info.frame > 0 && info.frame % every_frames == 0) ||
+                     (every_minutes > 0 && since_checkpoint.seconds() >= 60.0 * every_minutes);
+    if ((due || stop) && info.frame < total_frames) save(info, s);
+    return !stop;
+  };
+  g_stop_signal = 0;
+  std::signal(SIGINT, on_stop_signal);
+  std::signal(SIGTERM, on_stop_signal);
+  ProgressBar progress(stderr, !a.quiet);
   RunSummary s;
   try {
     s = run_frames(*solver, cfg, output, progress, L);
   } catch (const SimulationError& e) {
     progress.finish();
     L.error("{}", e.what());
+    L.error("frames up to the last complete one are in {}; checkpoints (if any) in {}", out.string(), (out / "checkpoints").string());
     output.flush_log();
     throw;
   }
+  std::signal(SIGINT, SIG_DFL);
+  std::signal(SIGTERM, SIG_DFL);
+  if (s.stopped) {
+    const int sig = g_stop_signal.load();
+    L.warn("stopped by signal {} after frame {}; resume with: bakesim run --resume {}", sig, s.last_frame, out.string());
+    output.flush_log();
+    fmt::print(stderr, "bakesim: stopped after frame {} (checkpoint written); resume with: bakesim run --resume {}\n", s.last_frame, out.string());
+    return 128 + sig;
+  }
   L.info("done: {} steps, {} frames, {:.2f} s wall, {:.3g} particle-steps/s", s.steps, s.frames, s.wall_seconds,
          s.particle_steps_per_second);
-  L.info("time per step by phase:\n{}", solver->timers().report(s.steps));
+  L.info("time per step by phase:\n{}", solver->timers().report(std::max(1L, s.steps)));
   output.flush_log();
   if (!a.quiet) {
     fmt::print(stderr, "bakesim: {} particles, {} steps, {} frames in {} ({:.3g} particle-steps/s on {} threads)\n",
@@ -156,6 +263,7 @@ int main(int argc, char** argv) {
       "Examples:\n"
       "  bakesim run scenes/dam-break.json                 bake into out/dam-break/\n"
       "  bakesim run scenes/dam-break.json --out /tmp/db --threads 2 --end-time 0.5\n"
+      "  bakesim run --resume out/bread-roll               go on from the newest checkpoint (after Ctrl-C, a crash, a kill)\n"
       "  bakesim validate scenes/viscous-funnel.json       check a scene, print what it would simulate\n"
       "  bakesim bench --particles 50000,200000            SPH speed in particle-steps per second\n"
       "  bakesim bench --solver mpm --threads 1,2          MPM speed (100K and 500K points)\n"
@@ -164,11 +272,14 @@ int main(int argc, char** argv) {
       "  bakesim render out/bread-roll --mode particles --color temperature\n"
       "  bakesim plot out/bread-roll                       probe temperatures, volume, height as PNG\n"
       "  bakesim schema --markdown > docs/scene-reference.md\n"
-      "Exit codes: 0 ok, 1 runtime or I/O failure, 2 bad input, 3 simulation failure.");
+      "Exit codes: 0 ok, 1 runtime or I/O failure, 2 bad input, 3 simulation failure, 130/143 stopped by Ctrl-C/SIGTERM (checkpoint written).");
 
   RunArgs run_args;
   auto* run = app.add_subcommand("run", "Simulate a scene and write frames, stats.csv and log.txt");
-  run->add_option("scene", run_args.scene, "Scene file (JSON)")->required();
+  run->add_option("scene", run_args.scene, "Scene file (JSON)");
+  run->add_option("--resume", run_args.resume, "Go on with the run in this directory from its newest valid checkpoint")->excludes(run->get_option("scene"));
+  run->add_option("--checkpoint-every", run_args.checkpoint_frames, "Checkpoint every N frames (default: the scene's output.checkpoint)")->check(CLI::Range(0, 1000000));
+  run->add_option("--checkpoint-minutes", run_args.checkpoint_minutes, "Checkpoint after M minutes of wall time (default: the scene's, 10)")->check(CLI::Range(0.0, 1e6));
   run->add_option("--out,-o", run_args.out, "Output directory (default: out/SCENE_NAME)");
   run->add_option("--threads,-j", run_args.threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 4096));
   run->add_option("--end-time", run_args.end_time, "Override the scene's time.end (s)")->check(CLI::PositiveNumber);
@@ -231,7 +342,10 @@ int main(int argc, char** argv) {
   }
 
   try {
-    if (*run) return command_run(run_args);
+    if (*run) {
+      if (run_args.scene.empty() && run_args.resume.empty()) throw InputError("run", "give a scene file, or --resume RUN_DIR");
+      return command_run(run_args);
+    }
     if (*validate) return command_validate(validate_path);
     if (*mesh) return command_mesh(mesh_args);
     if (*render_cmd) {

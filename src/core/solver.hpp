@@ -30,6 +30,14 @@ class Solver {
   // Solver-specific per-frame numbers for stats.csv (name, value), the same
   // names on every frame.
   virtual std::vector<std::pair<std::string, Real>> frame_quantities() const { return {}; }
+
+  // Checkpoints (src/io/checkpoint.hpp): the particle attributes, all of them,
+  // plus the named numbers returned here are everything the next steps depend
+  // on. restore_state() runs after the attributes are written back through
+  // particles_for_restore() and rebuilds whatever the solver derives from them.
+  virtual std::vector<std::pair<std::string, double>> checkpoint_state() const = 0;
+  virtual void restore_state(const std::vector<std::pair<std::string, double>>& state) = 0;
+  virtual ParticleSet& particles_for_restore() = 0;
 };
 
 }  // namespace bakesim

@@ -5,9 +5,11 @@
 #include <spdlog/sinks/stdout_color_sinks.h>
 
 #include <algorithm>
+#include <fstream>
 #include <cmath>
 #include <limits>
 
+#include "core/errors.hpp"
 #include "io/files.hpp"
 #include "sim/stats.hpp"
 
@@ -149,5 +151,45 @@ void RunOutput::on_frame(const FrameInfo& info, const Solver& solver) {
 }
 
 void RunOutput::flush_log() { log_.write_to(dir_ / "log.txt"); }
+
+void RunOutput::resume_after(int frame, std::vector<std::int32_t> follow_ids) {
+  follow_ids_ = std::move(follow_ids);
+  // stats.csv: the header and one row per frame 0..frame.
+  std::ifstream in(dir_ / "stats.csv");
+  std::string line, kept;
+  if (std::getline(in, line)) kept = line + "\n";
+  int rows = 0;
+  while (rows <= frame && std::getline(in, line)) {
+    kept += line + "\n";
+    ++rows;
+  }
+  if (rows <= frame) throw InputError((dir_ / "stats.csv").string(), fmt::format("has {} frames, the checkpoint is at frame {}", rows, frame));
+  stats_ = kept;
+  extra_header_written_ = true;
+  // particles.pvd: entries of frames up to `frame`, read back from the file.
+  pvd_.clear();
+  std::ifstream pvd(dir_ / "particles.pvd");
+  while (std::getline(pvd, line)) {
+    const auto t = line.find("timestep=\""), f = line.find("file=\"frames/");
+    if (t == std::string::npos || f == std::string::npos) continue;
+    const double time = std::stod(line.substr(t + 10));
+    const std::string file = line.substr(f + 6, line.find('"', f + 6) - (f + 6));
+    if (std::stoi(fs::path(file).stem().string()) <= frame) pvd_.push_back({time, file});
+  }
+  if (!pvd_.empty()) write_file_atomic(dir_ / "particles.pvd", encode_pvd(pvd_));
+  // Files of frames after the checkpoint.
+  for (const char* sub : {"frames", "meshes"}) {
+    std::error_code ec;
+    if (!fs::is_directory(dir_ / sub, ec)) continue;
+    std::vector<fs::path> stale;
+    for (const auto& e : fs::directory_iterator(dir_ / sub, ec)) {
+      const std::string stem = e.path().stem().string();
+      if (stem.size() == 5 && std::all_of(stem.begin(), stem.end(), [](char c) { return c >= '0' && c <= '9'; }) && std::stoi(stem) > frame)
+        stale.push_back(e.path());
+    }
+    for (const auto& p : stale) fs::remove(p, ec);
+  }
+  write_file_atomic(dir_ / "stats.csv", stats_);
+}
 
 }  // namespace bakesim

@@ -43,6 +43,12 @@ class RunOutput final : public FrameObserver {
   const std::filesystem::path& directory() const { return dir_; }
   std::string stats_header() const;
   void flush_log();
+  // Probes that follow a particle: its id (−1 for fixed probes), set on frame 0.
+  const std::vector<std::int32_t>& follow_ids() const { return follow_ids_; }
+  // Continues a run after `frame`: keeps the stats rows and ParaView entries up
+  // to it and removes particle and mesh files of later frames (left by the run
+  // that stopped), so the resumed run appends without duplicates or gaps.
+  void resume_after(int frame, std::vector<std::int32_t> follow_ids);
 
  private:
   std::filesystem::path dir_;

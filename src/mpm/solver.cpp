@@ -467,12 +467,15 @@ void MpmSolver::phase_grid(Real dt) {
           Vec3 v = Vec3(node.mv[0], node.mv[1], node.mv[2]) / node.mass + dt * g;
           const Vec3 xi = origin + dx_ * Vec3(Real(k / syz), Real((k / nz) % ny_), Real(k % nz));
           // Area vector Δx³ ∇φ (into the material) by central differences of V over 2Δx
-          // (neighbours always exist: material stays 2 cells inside the grid). The part
+          // The part
           // facing each hot collider within 3 Δx exchanges with it, the rest with the air
           // (∇φ reaches 2 Δx into the material; particles rest up to a cell off a wall).
           // Colliders without a temperature insulate the area facing them.
           Real* f = heat ? heat_grid_[k].f : nullptr;
-          const bool exchange = heat && f[0] > 0 && f[4] > 0;
+          // (Nodes on the grid's outer layer have no neighbours to difference: no area there.)
+          const std::size_t ki = k / syz, kj = (k / nz) % ny_, kk = k % nz;
+          const bool inner = ki > 0 && kj > 0 && kk > 0 && ki + 1 < std::size_t(nx_) && kj + 1 < std::size_t(ny_) && kk + 1 < std::size_t(nz_);
+          const bool exchange = heat && inner && f[0] > 0 && f[4] > 0;
           Vec3 area = Vec3::Zero();
           if (exchange)
             area = (0.5 * inv_dx_) * Vec3(heat_grid_[k + syz].f[4] - heat_grid_[k - syz].f[4],
@@ -959,6 +962,31 @@ std::vector<std::pair<std::string, Real>> MpmSolver::frame_quantities() const {
   out.emplace_back("water_evaporated", budget_.evaporated);
   out.emplace_back("heat_in", budget_.heat_in);
   return out;
+}
+
+}  // namespace bakesim::mpm
+
+namespace bakesim::mpm {
+
+std::vector<std::pair<std::string, double>> MpmSolver::checkpoint_state() const {
+  return {{"time", time_},
+          {"steps", double(steps_)},
+          {"evaporated", budget_.evaporated},
+          {"clamped", budget_.clamped},
+          {"heat_in", budget_.heat_in}};
+}
+
+void MpmSolver::restore_state(const std::vector<std::pair<std::string, double>>& state) {
+  for (const auto& [name, value] : state) {
+    if (name == "time") time_ = value;
+    else if (name == "steps") steps_ = std::size_t(value);
+    else if (name == "evaporated") budget_.evaporated = value;
+    else if (name == "clamped") budget_.clamped = value;
+    else if (name == "heat_in") budget_.heat_in = value;
+  }
+  // The particles come back in the order they had; the material groups index them.
+  material_members_.assign(setup_.materials.size(), {});
+  for (std::size_t i = 0; i < x_.size(); ++i) material_members_[material_[i]].push_back(static_cast<std::uint32_t>(i));
 }
 
 }  // namespace bakesim::mpm

@@ -103,6 +103,9 @@ class MpmSolver final : public Solver {
   void step(Real dt) override;
   Real time() const override { return time_; }
   const ParticleSet& particles() const override { return particles_; }
+  std::vector<std::pair<std::string, double>> checkpoint_state() const override;
+  void restore_state(const std::vector<std::pair<std::string, double>>& state) override;
+  ParticleSet& particles_for_restore() override { return particles_; }
   ParticleSet& mutable_particles() { return particles_; }
   const PhaseTimers& timers() const override { return timers_; }
   std::vector<Real> sample(const Vec3& x, const std::vector<std::string>& quantities) const override;

@@ -1,5 +1,7 @@
 #include "sim/frame_loop.hpp"
 
+#include <fmt/format.h>
+
 #include <cmath>
 
 #include "core/errors.hpp"
@@ -15,12 +17,22 @@ RunSummary run_frames(Solver& solver, const FrameLoopConfig& cfg, FrameObserver&
   summary.particles = n;
   Stopwatch wall;
   FrameInfo info;
-  observer.on_frame(info, solver);
+  info.frame = cfg.start_frame;
+  info.time = solver.time();
+  info.steps = cfg.start_steps;
+  info.last_dt = cfg.start_last_dt;
+  if (cfg.start_frame == 0) {
+    observer.on_frame(info, solver);
+    if (cfg.after_frame && !cfg.after_frame(info, solver)) summary.stopped = true;
+  }
   std::string bound;
-  for (int f = 1; f <= frames; ++f) {
+  for (int f = cfg.start_frame + 1; f <= frames && !summary.stopped; ++f) {
     const Real target = std::min(cfg.end_time, f / cfg.fps);
     while (solver.time() < target - 1e-12) {
       Real dt = solver.max_stable_dt();
+      if (!(dt >= cfg.min_dt))
+        throw SimulationError(fmt::format("{} step {} (t = {:.6g} s): the stable time step {:.3g} s, limited by {}, is below the floor {:.3g} s",
+                                          solver.name(), info.steps, solver.time(), dt, solver.active_dt_bound(), cfg.min_dt));
       if (solver.active_dt_bound() != bound) {
         bound = solver.active_dt_bound();
         log.info("t = {:.6f} s: time step {:.3e} s limited by {}", solver.time(), dt, bound);
@@ -39,10 +51,12 @@ RunSummary run_frames(Solver& solver, const FrameLoopConfig& cfg, FrameObserver&
     observer.on_frame(info, solver);  // which frames get particle files is the observer's choice
     progress.update({f, frames, solver.time(), cfg.end_time, info.steps}, f == frames);
     log.debug("frame {} t = {:.6f} s steps {} dt {:.3e}", f, info.time, info.steps, info.last_dt);
+    if (cfg.after_frame && !cfg.after_frame(info, solver) && f < frames) summary.stopped = true;
   }
   progress.finish();
-  summary.steps = info.steps;
+  summary.steps = info.steps - cfg.start_steps;
   summary.frames = frames;
+  summary.last_frame = info.frame;
   summary.wall_seconds = wall.seconds();
   summary.particle_steps_per_second =
       summary.wall_seconds > 0 ? double(summary.steps) * double(n) / summary.wall_seconds : 0.0;

@@ -2,6 +2,7 @@
 // The frame loop: steps a Solver with its stable time step up to each frame
 // time, hands every frame to an observer (writers, stats, probes), reports
 // progress, and logs which time-step bound is active.
+#include <functional>
 #include <memory>
 
 #include <spdlog/logger.h>
@@ -27,6 +28,16 @@ class FrameObserver {
 struct FrameLoopConfig {
   Real end_time = 1.0;
   Real fps = 30.0;
+  // Resuming: the frame the solver's restored state belongs to (its frame was
+  // already written), with the loop's counters at that frame.
+  int start_frame = 0;
+  long start_steps = 0;
+  Real start_last_dt = 0;
+  // Called after every frame (checkpoints, interruption); returning false
+  // stops the loop there.
+  std::function<bool(const FrameInfo&, const Solver&)> after_frame;
+  // A step shorter than this is a failure (the state has gone stiff or bad).
+  Real min_dt = 1e-10;
 };
 
 struct RunSummary {
@@ -35,6 +46,8 @@ struct RunSummary {
   double wall_seconds = 0;
   double particle_steps_per_second = 0;
   std::size_t particles = 0;
+  int last_frame = 0;
+  bool stopped = false;  // after_frame asked to stop before the end
 };
 
 RunSummary run_frames(Solver& solver, const FrameLoopConfig& cfg, FrameObserver& observer, ProgressBar& progress,

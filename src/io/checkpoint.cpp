@@ -1,0 +1,226 @@
+#include "io/checkpoint.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cstring>
+
+#include "core/errors.hpp"
+#include "io/binary.hpp"
+#include "io/files.hpp"
+
+namespace bakesim {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr char kMagic[] = "BAKESIM-CKPT";  // 12 bytes, no terminator written
+constexpr std::size_t kMagicSize = 12;
+constexpr std::size_t kHeaderSize = kMagicSize + 4 + 8 + 8;
+
+std::uint64_t fnv1a(const char* data, std::size_t n) {
+  std::uint64_t h = 1469598103934665603ull;
+  for (std::size_t i = 0; i < n; ++i) {
+    h ^= static_cast<unsigned char>(data[i]);
+    h *= 1099511628211ull;
+  }
+  return h;
+}
+
+void put_string(std::string& out, const std::string& s) {
+  put_bytes(out, std::uint64_t(s.size()));
+  out += s;
+}
+
+template <class T>
+void put_array(std::string& out, const std::vector<T>& v) {
+  put_bytes(out, std::uint64_t(v.size()));
+  out.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+}
+
+class Reader {
+ public:
+  Reader(const std::string& b, std::size_t pos, const std::string& where) : b_(b), pos_(pos), where_(where) {}
+  template <class T>
+  T get() {
+    need(sizeof(T));
+    T v;
+    std::memcpy(&v, b_.data() + pos_, sizeof(T));
+    pos_ += sizeof(T);
+    return v;
+  }
+  std::string string() {
+    const std::uint64_t n = get<std::uint64_t>();
+    need(n);
+    std::string s = b_.substr(pos_, n);
+    pos_ += n;
+    return s;
+  }
+  template <class T>
+  void array(std::vector<T>& v, std::size_t expected) {
+    const std::uint64_t n = get<std::uint64_t>();
+    if (n != expected) fail(fmt::format("an attribute has {} values for {} particles", n, expected));
+    read_values(v, n);
+  }
+  template <class T>
+  void array(std::vector<T>& v) {
+    const std::uint64_t n = get<std::uint64_t>();
+    if (n > (b_.size() - pos_) / sizeof(T)) fail("an array runs past the end");
+    read_values(v, n);
+  }
+  bool at_end() const { return pos_ == b_.size(); }
+  [[noreturn]] void fail(const std::string& what) const { throw InputError(where_, "corrupt checkpoint: " + what); }
+
+ private:
+  template <class T>
+  void read_values(std::vector<T>& v, std::uint64_t n) {
+    need(n * sizeof(T));
+    v.resize(n);
+    std::memcpy(v.data(), b_.data() + pos_, n * sizeof(T));
+    pos_ += n * sizeof(T);
+  }
+  void need(std::uint64_t n) const {
+    if (n > b_.size() - pos_) fail("it ends early");
+  }
+  const std::string& b_;
+  std::size_t pos_;
+  const std::string& where_;
+};
+
+}  // namespace
+
+std::string scene_fingerprint(const nlohmann::json& resolved) {
+  nlohmann::json j = resolved;
+  if (j.contains("time")) j["time"].erase("end");
+  j.erase("output");
+  j.erase("render");
+  j.erase("name");
+  j.erase("description");
+  const std::string text = j.dump();
+  return fmt::format("{:016x}", fnv1a(text.data(), text.size()));
+}
+
+std::string encode_checkpoint(const Checkpoint& c) {
+  std::string p;
+  put_string(p, c.solver);
+  put_string(p, c.scene_fingerprint);
+  put_string(p, c.scene_dir);
+  put_bytes(p, std::int32_t(c.frame));
+  put_bytes(p, std::int64_t(c.steps));
+  put_bytes(p, c.last_dt);
+  put_bytes(p, std::uint64_t(c.solver_state.size()));
+  for (const auto& [name, value] : c.solver_state) put_string(p, name), put_bytes(p, value);
+  const ParticleSet& ps = c.particles;
+  put_bytes(p, std::uint64_t(ps.size()));
+  put_bytes(p, std::uint64_t(ps.scalars().size() + ps.vectors().size() + ps.integers().size()));
+  for (const auto& a : ps.scalars()) put_bytes(p, std::uint8_t(0)), put_string(p, a.info.name), put_array(p, a.data);
+  for (const auto& a : ps.vectors()) put_bytes(p, std::uint8_t(1)), put_string(p, a.info.name), put_array(p, a.data);
+  for (const auto& a : ps.integers()) put_bytes(p, std::uint8_t(2)), put_string(p, a.info.name), put_array(p, a.data);
+  put_array(p, c.follow_ids);
+  std::string out(kMagic, kMagicSize);
+  put_bytes(out, kCheckpointVersion);
+  put_bytes(out, std::uint64_t(p.size()));
+  put_bytes(out, fnv1a(p.data(), p.size()));
+  return out + p;
+}
+
+Checkpoint decode_checkpoint(const std::string& b, const std::string& where) {
+  if (b.size() < kHeaderSize || b.compare(0, kMagicSize, kMagic, kMagicSize) != 0)
+    throw InputError(where, "not a bakesim checkpoint");
+  Reader head(b, kMagicSize, where);
+  const auto version = head.get<std::uint32_t>();
+  if (version != kCheckpointVersion)
+    throw InputError(where, fmt::format("checkpoint format version {} (this bakesim reads version {})", version, kCheckpointVersion));
+  const auto size = head.get<std::uint64_t>();
+  const auto sum = head.get<std::uint64_t>();
+  if (size != b.size() - kHeaderSize) head.fail(fmt::format("{} payload bytes, the header says {}", b.size() - kHeaderSize, size));
+  if (fnv1a(b.data() + kHeaderSize, size) != sum) head.fail("checksum mismatch");
+  Reader r(b, kHeaderSize, where);
+  Checkpoint c;
+  c.solver = r.string();
+  c.scene_fingerprint = r.string();
+  c.scene_dir = r.string();
+  c.frame = r.get<std::int32_t>();
+  c.steps = r.get<std::int64_t>();
+  c.last_dt = r.get<double>();
+  const auto n_state = r.get<std::uint64_t>();
+  if (n_state > 1000) r.fail("too many solver values");
+  for (std::uint64_t i = 0; i < n_state; ++i) {
+    std::string name = r.string();
+    c.solver_state.emplace_back(std::move(name), r.get<double>());
+  }
+  const auto n = r.get<std::uint64_t>();
+  const auto attributes = r.get<std::uint64_t>();
+  if (attributes > 10000 || n > (b.size() / 4)) r.fail("implausible particle or attribute count");
+  c.particles.resize(n);
+  for (std::uint64_t k = 0; k < attributes; ++k) {
+    const auto kind = r.get<std::uint8_t>();
+    const std::string name = r.string();
+    if (kind == 0) r.array(c.particles.add_scalar(name, ""), n);
+    else if (kind == 1) r.array(c.particles.add_vector(name, ""), n);
+    else if (kind == 2) r.array(c.particles.add_int(name), n);
+    else r.fail("unknown attribute kind");
+  }
+  r.array(c.follow_ids);
+  if (!r.at_end()) r.fail("bytes after the end of the data");
+  return c;
+}
+
+Checkpoint capture_checkpoint(const Solver& solver) {
+  Checkpoint c;
+  c.solver = solver.name();
+  c.solver_state = solver.checkpoint_state();
+  const ParticleSet& ps = solver.particles();
+  c.particles.resize(ps.size());
+  for (const auto& a : ps.scalars()) c.particles.add_scalar(a.info.name, a.info.unit, a.info.exported) = a.data;
+  for (const auto& a : ps.vectors()) c.particles.add_vector(a.info.name, a.info.unit, a.info.exported) = a.data;
+  for (const auto& a : ps.integers()) c.particles.add_int(a.info.name, a.info.exported) = a.data;
+  return c;
+}
+
+void restore_checkpoint(Solver& solver, const Checkpoint& c, const std::string& where) {
+  if (c.solver != solver.name()) throw InputError(where, fmt::format("checkpoint of a {} run, the scene runs {}", c.solver, solver.name()));
+  ParticleSet& ps = solver.particles_for_restore();
+  // Every attribute the solver has must be in the checkpoint, with the same kind.
+  auto missing = [&](const std::string& name) { return InputError(where, "checkpoint lacks the particle attribute '" + name + "'"); };
+  for (const auto& a : ps.scalars())
+    if (!c.particles.has(a.info.name)) throw missing(a.info.name);
+  for (const auto& a : ps.vectors())
+    if (!c.particles.has(a.info.name)) throw missing(a.info.name);
+  for (const auto& a : ps.integers())
+    if (!c.particles.has(a.info.name)) throw missing(a.info.name);
+  ps.resize(c.particles.size());
+  try {
+    for (const auto& a : ps.scalars()) ps.scalar(a.info.name) = c.particles.scalar(a.info.name);
+    for (const auto& a : ps.vectors()) ps.vector(a.info.name) = c.particles.vector(a.info.name);
+    for (const auto& a : ps.integers()) ps.integer(a.info.name) = c.particles.integer(a.info.name);
+  } catch (const std::exception& e) {
+    throw InputError(where, std::string("checkpoint attributes do not match the solver's: ") + e.what());
+  }
+  solver.restore_state(c.solver_state);
+}
+
+fs::path write_checkpoint(const fs::path& run_dir, const Checkpoint& c, int keep) {
+  const fs::path dir = run_dir / "checkpoints";
+  ensure_directory(dir);
+  const fs::path file = dir / fmt::format("{:05d}.ckpt", c.frame);
+  write_file_atomic(file, encode_checkpoint(c));
+  const auto all = list_checkpoints(run_dir);
+  std::error_code ec;
+  for (std::size_t i = std::size_t(std::max(keep, 1)); i < all.size(); ++i) fs::remove(all[i], ec);
+  return file;
+}
+
+std::vector<fs::path> list_checkpoints(const fs::path& run_dir) {
+  std::vector<fs::path> out;
+  const fs::path dir = run_dir / "checkpoints";
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) return out;
+  for (const auto& e : fs::directory_iterator(dir, ec))
+    if (e.path().extension() == ".ckpt") out.push_back(e.path());
+  std::sort(out.begin(), out.end(), [](const fs::path& a, const fs::path& b) { return a.filename().string() > b.filename().string(); });
+  return out;
+}
+
+}  // namespace bakesim
