@@ -278,7 +278,7 @@ void MpmSolver::phase_browning(Real dt) {
 }
 
 void MpmSolver::step(Real dt) {
-  if (!(dt > 0)) throw SimulationError(fmt::format("mpm step {}: time step {} is not positive", steps_, dt));
+  if (!(dt > 0)) throw SimulationError(fmt::format("mpm step {}: time step {} is not positive", steps_ + 1, dt));
   phase_sort();
   phase_p2g(dt);
   phase_grid(dt);
@@ -864,7 +864,7 @@ void MpmSolver::check_state() {
                                                          : "water mass";
   throw SimulationError(fmt::format("mpm step {} (t = {:.6g} s): particle {} has an invalid {}: x = ({:.4g}, {:.4g}, {:.4g}), v = ({:.4g}, {:.4g}, {:.4g}), J = {:.4g}, "
                                     "temperature = {:.4g} degC, water = {:.4g} kg",
-                                    steps_, time_, id_[bad], what, x_[bad].x(), x_[bad].y(), x_[bad].z(), v_[bad].x(), v_[bad].y(), v_[bad].z(), j_[bad],
+                                    steps_ + 1, time_, id_[bad], what, x_[bad].x(), x_[bad].y(), x_[bad].z(), v_[bad].x(), v_[bad].y(), v_[bad].z(), j_[bad],
                                     temperature_[bad], water_[bad]));
 }
 
