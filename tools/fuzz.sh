@@ -1,0 +1,22 @@
+#!/usr/bin/env bash
+# Open-ended fuzzing with libFuzzer, AddressSanitizer and UBSan (clang from
+# Debian: clang, libclang-rt-14-dev). Builds the fuzz targets into build-fuzz/
+# and runs each for SECONDS (default 600) on a copy of its seed corpus.
+#   tools/fuzz.sh [SECONDS]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+SECONDS_EACH="${1:-600}"
+if [ ! -f build-fuzz/CMakeCache.txt ]; then
+  CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DBAKESIM_FUZZ=ON >/dev/null
+fi
+cmake --build build-fuzz --parallel "$(nproc)" --target fuzz_scene fuzz_mesh_files
+run() {
+  local target="$1"; shift
+  local corpus="build-fuzz/corpus-$target"
+  mkdir -p "$corpus"
+  for seed in "$@"; do find "$seed" -type f -exec cp {} "$corpus/" \; ; done
+  echo "== $target for $SECONDS_EACH s"
+  "build-fuzz/tests/fuzz/$target" "$corpus" -max_total_time="$SECONDS_EACH" -rss_limit_mb=4096 -print_final_stats=1 2>&1 | tail -15
+}
+run fuzz_scene scenes tests/data
+run fuzz_mesh_files scenes/meshes tests/data/meshes tests/fuzz/seeds
