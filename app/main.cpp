@@ -136,7 +136,7 @@ int command_run(const RunArgs& a) {
   const double every_minutes = a.checkpoint_minutes >= 0 ? a.checkpoint_minutes : ck["every_minutes"].get<double>();
   const std::string fingerprint = scene_fingerprint(scene.resolved);
   Stopwatch since_checkpoint;
-  auto save = [&](const FrameInfo& info, const Solver& s) {
+  auto make_checkpoint = [&](const FrameInfo& info, const Solver& s) {
     Checkpoint c = capture_checkpoint(s);
     c.scene_fingerprint = fingerprint;
     c.scene_dir = scene_dir;
@@ -144,16 +144,25 @@ int command_run(const RunArgs& a) {
     c.steps = info.steps;
     c.last_dt = info.last_dt;
     c.follow_ids = output.follow_ids();
+    return c;
+  };
+  auto save = [&](const Checkpoint& c) {
     const fs::path file = write_checkpoint(out, c);
-    L.info("checkpoint {} (frame {})", file.string(), info.frame);
+    L.info("checkpoint {} (frame {})", file.string(), c.frame);
     since_checkpoint.restart();
   };
+  // The state of the last complete frame stays in memory, so a step that fails
+  // leaves a checkpoint just before its frame (a copy of the particles per frame).
+  std::optional<Checkpoint> last_good;
   const int total_frames = std::max(1, static_cast<int>(std::ceil(scene.end_time * scene.fps - 1e-9)));
   cfg.after_frame = [&](const FrameInfo& info, const Solver& s) {
     const bool stop = g_stop_signal.load() != 0;
     const bool due = (every_frames > 0 && info.frame > 0 && info.frame % every_frames == 0) ||
                      (every_minutes > 0 && since_checkpoint.seconds() >= 60.0 * every_minutes);
-    if ((due || stop) && info.frame < total_frames) save(info, s);
+    if (info.frame < total_frames) {
+      last_good = make_checkpoint(info, s);
+      if (due || stop) save(*last_good);
+    }
     return !stop;
   };
   g_stop_signal = 0;
@@ -166,7 +175,12 @@ int command_run(const RunArgs& a) {
   } catch (const SimulationError& e) {
     progress.finish();
     L.error("{}", e.what());
-    L.error("frames up to the last complete one are in {}; checkpoints (if any) in {}", out.string(), (out / "checkpoints").string());
+    if (last_good) {
+      const fs::path file = write_checkpoint(out, *last_good, 3);
+      L.error("the state of frame {}, the last complete one, is in {}: resume with bakesim run --resume {}", last_good->frame,
+              file.string(), out.string());
+    }
+    L.error("frames up to the last complete one are in {}", out.string());
     output.flush_log();
     throw;
   }

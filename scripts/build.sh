@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Configures (once) and builds Release into build/.
+# Configures (once) and builds Release into build/: every target, or the
+# targets given (./test.sh builds only what ctest runs).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 GEN=()
@@ -7,4 +8,8 @@ if command -v ninja >/dev/null 2>&1; then GEN=(-G Ninja); fi
 if [ ! -f build/CMakeCache.txt ]; then
   cmake -S . -B build "${GEN[@]}" -DCMAKE_BUILD_TYPE=Release >/dev/null
 fi
-cmake --build build --parallel "$(nproc)"
+if [ $# -gt 0 ]; then
+  cmake --build build --parallel "$(nproc)" --target "$@"
+else
+  cmake --build build --parallel "$(nproc)"
+fi

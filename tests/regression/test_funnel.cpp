@@ -57,8 +57,8 @@ FunnelOutcome run(const std::string& scene_file, double end_time) {
 }  // namespace
 
 TEST(FunnelScenes, ThinFluidDrainsThickFluidIsHeldAndNothingCrossesTheGlass) {
-  const FunnelOutcome thin = run("viscous-funnel.json", 0.6);
-  const FunnelOutcome thick = run("viscous-funnel-thick.json", 0.6);
+  const FunnelOutcome thin = run("viscous-funnel.json", 0.5);
+  const FunnelOutcome thick = run("viscous-funnel-thick.json", 0.5);
   EXPECT_GT(thin.in_cup, 0.2) << "thin fluid in the cup: " << thin.in_cup;
   EXPECT_LT(thick.in_cup, 0.5 * thin.in_cup) << "thick " << thick.in_cup << " vs thin " << thin.in_cup;
   EXPECT_GT(thick.in_cone, thin.in_cone) << "thick in cone " << thick.in_cone << ", thin " << thin.in_cone;
