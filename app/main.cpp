@@ -21,6 +21,7 @@
 #include "core/errors.hpp"
 #include "core/progress.hpp"
 #include "io/checkpoint.hpp"
+#include "io/files.hpp"
 #include "io/run_meshes.hpp"
 #include "io/run_output.hpp"
 #include "io/scene.hpp"
@@ -64,14 +65,6 @@ int command_validate(const std::string& path) {
   return kExitOk;
 }
 
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  if (!in) throw InputError(p.string(), "cannot be read");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 int command_run(const RunArgs& a) {
   // A resumed run reads its resolved scene and newest valid checkpoint.
   std::optional<Checkpoint> checkpoint;
@@ -84,7 +77,7 @@ int command_run(const RunArgs& a) {
     if (!fs::is_regular_file(dir / "scene.json")) throw InputError(a.resume, "not a run directory (no scene.json)");
     for (const auto& file : list_checkpoints(dir)) {
       try {
-        checkpoint = decode_checkpoint(read_text(file), file.string());
+        checkpoint = decode_checkpoint(read_file(file), file.string());
         checkpoint_file = file;
         break;
       } catch (const InputError& e) {
@@ -95,7 +88,7 @@ int command_run(const RunArgs& a) {
       throw InputError(a.resume, refused.empty() ? "has no checkpoint to resume from (checkpoints/*.ckpt)"
                                                  : "no valid checkpoint: " + refused.front());
     scene_dir = checkpoint->scene_dir;
-    scene = parse_scene(read_text(dir / "scene.json"), (dir / "scene.json").string(), scene_dir);
+    scene = parse_scene(read_file(dir / "scene.json"), (dir / "scene.json").string(), scene_dir);
     if (scene_fingerprint(scene.resolved) != checkpoint->scene_fingerprint)
       throw InputError(checkpoint_file.string(), "checkpoint of a different scene than " + (dir / "scene.json").string());
   } else {
@@ -115,7 +108,7 @@ int command_run(const RunArgs& a) {
   auto& L = log.logger();
   if (!a.resume.empty()) {
     std::ifstream old(out / "log.txt");
-    if (old) L.info("(log of the run before the resume follows)\n{}", read_text(out / "log.txt"));
+    if (old) L.info("(log of the run before the resume follows)\n{}", read_file(out / "log.txt"));
   }
   L.info("bakesim {} run of {} ({} threads of {})", BAKESIM_VERSION, a.resume.empty() ? a.scene : a.resume, threads, hw);
   auto solver = make_solver(scene);

@@ -9,6 +9,8 @@ namespace bakesim {
 
 // Throws IoError naming the path when the directory is unwritable or full.
 void write_file_atomic(const std::filesystem::path& path, std::string_view bytes);
+// The whole file; throws InputError naming the path when it cannot be read.
+std::string read_file(const std::filesystem::path& path);
 // Creates a directory (and parents); throws IoError on failure.
 void ensure_directory(const std::filesystem::path& dir);
 

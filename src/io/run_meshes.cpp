@@ -128,15 +128,6 @@ void write_frame_mesh(const fs::path& dir, int frame, const surface::SurfaceMesh
   }
 }
 
-namespace {
-std::string read_all(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  if (!in) throw InputError(p.string(), "cannot be read");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-}  // namespace
 
 RunDirectory open_run(const fs::path& dir) {
   RunDirectory r;
@@ -144,7 +135,7 @@ RunDirectory open_run(const fs::path& dir) {
   const fs::path scene = dir / "scene.json";
   if (!fs::is_regular_file(scene)) throw InputError(dir.string(), "not a run directory (no scene.json; make one with `bakesim run SCENE --out DIR`)");
   try {
-    r.scene = json::parse(read_all(scene));
+    r.scene = json::parse(read_file(scene));
   } catch (const json::exception& e) {
     throw InputError(scene.string(), std::string("not valid JSON: ") + e.what());
   }
@@ -160,7 +151,7 @@ RunDirectory open_run(const fs::path& dir) {
 }
 
 ParticleSet read_particle_frame(const fs::path& ply) {
-  const std::string bytes = read_all(ply);
+  const std::string bytes = read_file(ply);
   return particles_from_ply(parse_ply(bytes, ply.string()), ply.string());
 }
 

@@ -3,13 +3,7 @@
 # scene's output.mesh option: the promised files appear, meshes are PLY with
 # colours and UVs and OBJ with a material and texture, pictures are PNG, and a
 # directory that is not a run is refused with exit code 2.
-set -u
-BAKESIM="$1"
-ROOT="$2"
-OUT="$(mktemp -d)"
-trap 'rm -rf "$OUT"' EXIT
-fail=0
-check() { if eval "$1"; then echo "ok: $2"; else echo "FAIL: $2"; fail=1; fi; }
+source "$(dirname "$0")/common.sh"
 png() { [ -s "$1" ] && head -c 8 "$1" | od -An -c | grep -q "P   N   G"; }
 
 # SPH: run, then mesh (both methods), render (mesh and particles), plot.

@@ -5,13 +5,7 @@
 # SIGTERM stops a run after its frame with a checkpoint and exit code 143; a
 # corrupted or foreign checkpoint is refused; an unwritable output directory
 # is reported with its path.
-set -u
-BAKESIM="$1"
-ROOT="$2"
-OUT="$(mktemp -d)"
-trap 'rm -rf "$OUT"' EXIT
-fail=0
-check() { if eval "$1"; then echo "ok: $2"; else echo "FAIL: $2"; fail=1; fi; }
+source "$(dirname "$0")/common.sh"
 same_run() {  # $1 $2: run directories with identical frames and stats (wall_time aside)
   local a="$1" b="$2" f
   for f in "$a"/frames/*.ply; do cmp -s "$f" "$b/frames/$(basename "$f")" || { echo "differs: $(basename "$f")"; return 1; }; done

@@ -1,13 +1,7 @@
 #!/usr/bin/env bash
 # A short run writes every promised output: resolved scene, PLY and VTU frames,
 # the ParaView series, stats.csv with the promised columns, and log.txt.
-set -u
-BAKESIM="$1"
-ROOT="$2"
-OUT="$(mktemp -d)"
-trap 'rm -rf "$OUT"' EXIT
-fail=0
-check() { if eval "$1"; then echo "ok: $2"; else echo "FAIL: $2"; fail=1; fi; }
+source "$(dirname "$0")/common.sh"
 
 "$BAKESIM" run "$ROOT/tests/data/good_small.json" --out "$OUT/run" 2>"$OUT/stderr.txt"
 rc=$?
