@@ -204,23 +204,26 @@ void assign_uv(SurfaceMesh& mesh, const ColourSamples& s, Real support) {
     const Real offset = (!s.bubble.empty() && s.bubble[j]) ? 0.0 : 0.1;  // Eq 4.7's O
     return offset + 0.8 * std::clamp(s.value[j], 0.0, 1.0) + 0.05;
   };
-  parallel_for(mesh.vertices.size(), [&](std::size_t v) {
-    const Vec3 x = mesh.vertices[v].cast<Real>();
+  // One result list per block of vertices: the search reuses its storage.
+  parallel_blocks(mesh.vertices.size(), [&](std::size_t vb, std::size_t ve) {
     std::vector<std::pair<std::size_t, Real>> found;
-    tree.radiusSearch(x.data(), support * support, found, nanoflann::SearchParams(32, 0, false));
-    Real num = 0, den = 0;
-    for (const auto& f : found) {
-      const Real w = s.volume[f.first] * spline(std::sqrt(f.second), support);  // Eq 4.5
-      num += w * g(f.first);
-      den += w;
-    }
-    if (den > 0) {
-      mesh.uv[v] = float(num / den);
-    } else {
-      std::size_t nearest = 0;
-      Real d2 = 0;
-      tree.knnSearch(x.data(), 1, &nearest, &d2);
-      mesh.uv[v] = float(g(nearest));
+    for (std::size_t v = vb; v < ve; ++v) {
+      const Vec3 x = mesh.vertices[v].cast<Real>();
+      tree.radiusSearch(x.data(), support * support, found, nanoflann::SearchParams(32, 0, false));
+      Real num = 0, den = 0;
+      for (const auto& f : found) {
+        const Real w = s.volume[f.first] * spline(std::sqrt(f.second), support);  // Eq 4.5
+        num += w * g(f.first);
+        den += w;
+      }
+      if (den > 0) {
+        mesh.uv[v] = float(num / den);
+      } else {
+        std::size_t nearest = 0;
+        Real d2 = 0;
+        tree.knnSearch(x.data(), 1, &nearest, &d2);
+        mesh.uv[v] = float(g(nearest));
+      }
     }
   }, 1024);
 }
