@@ -2,7 +2,9 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <cstring>
 #include <limits>
 #include <sstream>
@@ -217,6 +219,14 @@ ParticleSet particles_from_ply(const PlyData& ply, const std::string& where) {
   return ps;
 }
 
+namespace {
+// A colour channel; out-of-range values (a float or int channel) are clamped,
+// since converting them to uint8 directly is undefined (found by fuzzing).
+std::uint8_t byte_of(double v) { return std::uint8_t(std::isfinite(v) ? std::clamp(v, 0.0, 255.0) : 0.0); }
+// Doubles beyond float's range would also be undefined to convert.
+float float_of(double v) { return float(std::isnan(v) ? v : std::clamp(v, -3.0e38, 3.0e38)); }
+}  // namespace
+
 surface::SurfaceMesh mesh_from_ply(const PlyData& ply, const std::string& where) {
   const PlyElement* v = ply.find("vertex");
   const PlyElement* f = ply.find("face");
@@ -224,13 +234,13 @@ surface::SurfaceMesh mesh_from_ply(const PlyData& ply, const std::string& where)
   const PlyProperty *x = v->find("x"), *y = v->find("y"), *z = v->find("z");
   if (!x || !y || !z || x->is_list || y->is_list || z->is_list) throw InputError(where, "vertex element has no x, y, z");
   surface::SurfaceMesh m;
-  for (std::size_t i = 0; i < v->count; ++i) m.vertices.emplace_back(float(x->values[i]), float(y->values[i]), float(z->values[i]));
+  for (std::size_t i = 0; i < v->count; ++i) m.vertices.emplace_back(float_of(x->values[i]), float_of(y->values[i]), float_of(z->values[i]));
   const PlyProperty *r = v->find("red"), *g = v->find("green"), *b = v->find("blue"), *s = v->find("s");
   if (r && g && b && !r->is_list && !g->is_list && !b->is_list)
     for (std::size_t i = 0; i < v->count; ++i)
-      m.colours.push_back({std::uint8_t(r->values[i]), std::uint8_t(g->values[i]), std::uint8_t(b->values[i])});
+      m.colours.push_back({byte_of(r->values[i]), byte_of(g->values[i]), byte_of(b->values[i])});
   if (s && !s->is_list)
-    for (std::size_t i = 0; i < v->count; ++i) m.uv.push_back(float(s->values[i]));
+    for (std::size_t i = 0; i < v->count; ++i) m.uv.push_back(float_of(s->values[i]));
   const PlyProperty* idx = f->find("vertex_indices");
   if (!idx) idx = f->find("vertex_index");
   if (!idx || !idx->is_list) throw InputError(where, "face element has no vertex_indices list");
@@ -241,7 +251,7 @@ surface::SurfaceMesh mesh_from_ply(const PlyData& ply, const std::string& where)
   }
   const PlyProperty *nx = v->find("nx"), *ny = v->find("ny"), *nz = v->find("nz");
   if (nx && ny && nz && !nx->is_list && !ny->is_list && !nz->is_list) {
-    for (std::size_t i = 0; i < v->count; ++i) m.normals.emplace_back(float(nx->values[i]), float(ny->values[i]), float(nz->values[i]));
+    for (std::size_t i = 0; i < v->count; ++i) m.normals.emplace_back(float_of(nx->values[i]), float_of(ny->values[i]), float_of(nz->values[i]));
   } else {
     surface::compute_normals(m);
   }

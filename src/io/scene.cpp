@@ -336,6 +336,9 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::s
     const auto pos = msg.find(": ", msg.find("parse error"));
     if (pos != std::string::npos) msg = msg.substr(pos + 2);
     throw InputError(fmt::format("{}:{}:{}", file, line, col), "JSON syntax error: " + msg);
+  } catch (const json::exception& e) {
+    // A number too large for a double (found by fuzzing: 1e999).
+    throw InputError(file, std::string("JSON error: ") + e.what());
   }
   if (!doc.is_object()) throw InputError(file, "a scene must be a JSON object");
   apply_material_presets(doc);
