@@ -6,7 +6,6 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
-#include <functional>
 
 #include "core/errors.hpp"
 #include "core/parallel.hpp"
@@ -94,8 +93,6 @@ std::uint8_t linear_to_srgb(float v) {
   return std::uint8_t(std::lround(255.0f * std::pow(std::clamp(v, 0.0f, 1.0f), 1.0f / 2.2f)));
 }
 
-// Albedo and shading normal at a hit on the object.
-using SurfaceAt = std::function<void(const RTCHit&, Vec3f& albedo, Vec3f& normal)>;
 
 void orthonormal_basis(const Vec3f& n, Vec3f& t, Vec3f& b) {
   t = (std::abs(n.x()) > 0.5f ? Vec3f(0, 1, 0) : Vec3f(1, 0, 0)).cross(n).normalized();
@@ -133,6 +130,9 @@ void draw_colour_bar(Image& img, const ColourBar& bar, const TextRenderer& text)
   text.draw(img, (x0 + x1) / 2, y0 - 14, bar.label, 15, {30, 30, 30}, Align::centre);
 }
 
+// surface_at(hit, albedo, normal): the object's albedo and shading normal at
+// a hit (a template parameter, so the per-sample call is inlined).
+template <class SurfaceAt>
 Image trace(RayScene& rs, const Aabb& box, const RenderSettings& s, const SurfaceAt& surface_at, const TextRenderer& text,
             const ColourBar* bar, const std::string& caption) {
   const float ground_y = float(box.min.y());

@@ -13,21 +13,6 @@ namespace bakesim::render {
 
 namespace fs = std::filesystem;
 
-Image downscale(const Image& img, int f) {
-  Image out(std::max(1, img.width / f), std::max(1, img.height / f));
-  for (int y = 0; y < out.height; ++y)
-    for (int x = 0; x < out.width; ++x) {
-      int sum[3] = {0, 0, 0};
-      for (int j = 0; j < f; ++j)
-        for (int i = 0; i < f; ++i) {
-          const std::uint8_t* p = img.at(std::min(img.width - 1, x * f + i), std::min(img.height - 1, y * f + j));
-          for (int k = 0; k < 3; ++k) sum[k] += p[k];
-        }
-      out.set(x, y, {std::uint8_t(sum[0] / (f * f)), std::uint8_t(sum[1] / (f * f)), std::uint8_t(sum[2] / (f * f))});
-    }
-  return out;
-}
-
 namespace {
 
 bool has_program(const std::string& name) {

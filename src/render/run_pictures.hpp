@@ -34,7 +34,4 @@ struct RenderRunResult {
 
 RenderRunResult render_run(const std::filesystem::path& run_dir, const RenderRunOptions& options);
 
-// Shrinks an image by an integer factor (box filter).
-Image downscale(const Image& image, int factor);
-
 }  // namespace bakesim::render

@@ -23,7 +23,6 @@ class TextRenderer {
   // centre of the text's baseline.
   void draw_vertical(Image& image, int x, int y, const std::string& text, float pixel_height, std::array<std::uint8_t, 3> colour) const;
   int width(const std::string& text, float pixel_height) const;
-  bool has_truetype() const { return !font_.empty(); }
 
  private:
   std::vector<unsigned char> font_;  // TTF bytes; empty: stroke font
