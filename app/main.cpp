@@ -115,6 +115,7 @@ int command_run(const RunArgs& a) {
   L.info("{} particles; output in {}", solver->particles().size(), out.string());
   RunOutput output(out, scene, log);
   FrameLoopConfig cfg{scene.end_time, scene.fps};
+  cfg.min_dt = scene.resolved["solver"]["min_dt"].get<double>();
   for (const auto& r : refused) L.warn("refused checkpoint: {}", r);
   if (checkpoint) {
     restore_checkpoint(*solver, *checkpoint, checkpoint_file.string());

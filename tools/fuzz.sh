@@ -18,5 +18,5 @@ run() {
   echo "== $target for $SECONDS_EACH s"
   "build-fuzz/tests/fuzz/$target" "$corpus" -max_total_time="$SECONDS_EACH" -rss_limit_mb=4096 -print_final_stats=1 2>&1 | tail -15
 }
-run fuzz_scene scenes tests/data
-run fuzz_mesh_files scenes/meshes tests/data/meshes tests/fuzz/seeds
+run fuzz_scene scenes tests/data tests/fuzz/seeds/scene
+run fuzz_mesh_files scenes/meshes tests/data/meshes tests/fuzz/seeds/ply

@@ -45,6 +45,14 @@ void write_file_atomic(const fs::path& path, std::string_view bytes) {
     }
     done += static_cast<std::size_t>(w);
   }
+  // Flushed to the disk before the rename, so a crash or power loss leaves the
+  // old file or the new one, and a full disk shows up here at the latest.
+  if (::fsync(fd) != 0 && errno != EINVAL) {
+    const int err = errno;
+    ::close(fd);
+    ::unlink(tmp.c_str());
+    throw IoError(path.string() + ": write failed: " + std::strerror(err));
+  }
   if (::close(fd) != 0) {
     const int err = errno;
     ::unlink(tmp.c_str());

@@ -358,6 +358,9 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::s
     c.fail("solver", fmt::format("missing section '{0}' (required when solver.type is \"{0}\"; it needs at least '{1}')",
                                  sc.solver_type, sc.solver_type == "sph" ? "spacing" : "cell_size"));
 
+  if (doc["solver"]["min_dt"].get<double>() >= doc["solver"]["max_dt"].get<double>())
+    c.fail("solver.min_dt", fmt::format("must be below solver.max_dt ({:g} s)", doc["solver"]["max_dt"].get<double>()));
+
   sc.end_time = doc["time"]["end"].get<double>();
   sc.fps = doc["time"]["fps"].get<double>();
   if (sc.end_time * sc.fps > 1e6) c.fail("time", "more than a million frames: lower time.fps or time.end");

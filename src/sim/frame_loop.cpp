@@ -31,7 +31,7 @@ RunSummary run_frames(Solver& solver, const FrameLoopConfig& cfg, FrameObserver&
     while (solver.time() < target - 1e-12) {
       Real dt = solver.max_stable_dt();
       if (!(dt >= cfg.min_dt))
-        throw SimulationError(fmt::format("{} step {} (t = {:.6g} s): the stable time step {:.3g} s, limited by {}, is below the floor {:.3g} s",
+        throw SimulationError(fmt::format("{} step {} (t = {:.6g} s): the stable time step {:.4g} s, limited by {}, is below the floor {:.4g} s",
                                           solver.name(), info.steps, solver.time(), dt, solver.active_dt_bound(), cfg.min_dt));
       if (solver.active_dt_bound() != bound) {
         bound = solver.active_dt_bound();

@@ -43,9 +43,10 @@ NeighbourLists sort_and_find(NeighbourSearch& search, const std::vector<Vec3>& x
   return lists;
 }
 
-class NeighbourMethods : public ::testing::TestWithParam<NeighbourMethod> {};
-
 }  // namespace
+
+// Outside the anonymous namespace: the test classes derive from it (unity builds warn otherwise).
+class NeighbourMethods : public ::testing::TestWithParam<NeighbourMethod> {};
 
 TEST_P(NeighbourMethods, MatchesBruteForceOnRandomSets) {
   const Aabb domain{Vec3(-0.3, 0.0, -0.1), Vec3(0.5, 0.4, 0.2)};

@@ -206,3 +206,12 @@ TEST(Scene, ScheduleMustIncrease) {
   EXPECT_DOUBLE_EQ(s.air_temperature(30), 100.0);
   EXPECT_DOUBLE_EQ(s.air_temperature(600), 180.0);
 }
+
+TEST(Scene, MinDtMustBeBelowMaxDt) {
+  json d = base_scene();
+  d["solver"]["max_dt"] = 1e-3;
+  d["solver"]["min_dt"] = 2e-3;
+  expect_error(d, {"solver.min_dt", "must be below solver.max_dt"});
+  d["solver"]["min_dt"] = 1e-5;
+  EXPECT_DOUBLE_EQ(parse_scene(d.dump(), "scene.json", ".").resolved["solver"]["min_dt"].get<double>(), 1e-5);
+}
