@@ -2,10 +2,13 @@
 # Open-ended fuzzing with libFuzzer, AddressSanitizer and UBSan (clang from
 # Debian: clang, libclang-rt-14-dev). Builds the fuzz targets into build-fuzz/
 # and runs each for SECONDS (default 600) on a copy of its seed corpus.
-#   tools/fuzz.sh [SECONDS]
+#   tools/fuzz.sh [SECONDS] [fuzz_scene|fuzz_mesh_files ...]   (default: both)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 SECONDS_EACH="${1:-600}"
+shift || true
+TARGETS=("${@:-fuzz_scene fuzz_mesh_files}")
+TARGETS=(${TARGETS[*]})
 if [ ! -f build-fuzz/CMakeCache.txt ]; then
   CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DBAKESIM_FUZZ=ON >/dev/null
 fi
@@ -18,5 +21,10 @@ run() {
   echo "== $target for $SECONDS_EACH s"
   "build-fuzz/tests/fuzz/$target" "$corpus" -max_total_time="$SECONDS_EACH" -rss_limit_mb=4096 -print_final_stats=1 2>&1 | tail -15
 }
-run fuzz_scene scenes tests/data tests/fuzz/seeds/scene
-run fuzz_mesh_files scenes/meshes tests/data/meshes tests/fuzz/seeds/ply
+for t in "${TARGETS[@]}"; do
+  case "$t" in
+    fuzz_scene) run fuzz_scene scenes tests/data tests/fuzz/seeds/scene ;;
+    fuzz_mesh_files) run fuzz_mesh_files scenes/meshes tests/data/meshes tests/fuzz/seeds/ply ;;
+    *) echo "unknown fuzz target: $t" >&2; exit 2 ;;
+  esac
+done

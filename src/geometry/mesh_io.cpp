@@ -7,6 +7,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "core/errors.hpp"
@@ -184,9 +185,13 @@ TriangleMesh load_ply(const std::string& path) {
         const PlyProperty& p = e.props[k];
         if (p.is_list) {
           const double cnt = reader.read(p.count_type);
-          if (cnt < 0 || cnt > 1e6) throw InputError(path, "PLY list has an implausible length");
+          if (!(cnt >= 0 && cnt <= 1e6)) throw InputError(path, "PLY list has an implausible length");
           std::vector<int> idx(static_cast<std::size_t>(cnt));
-          for (auto& i : idx) i = static_cast<int>(reader.read(p.type));
+          for (auto& i : idx) {
+            const double value = reader.read(p.type);  // NaN and out-of-range values must not reach the cast
+            if (!(value >= 0 && value <= double(std::numeric_limits<int>::max()))) throw InputError(path, "PLY face has an invalid vertex index");
+            i = static_cast<int>(value);
+          }
           if (is_face && int(k) == iface)
             for (std::size_t q = 1; q + 1 < idx.size(); ++q) mesh.triangles.push_back({idx[0], idx[q], idx[q + 1]});
         } else {

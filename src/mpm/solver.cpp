@@ -117,6 +117,7 @@ MpmSolver::MpmSolver(Setup setup)
   grid_.assign(nodes, Node{0, {0, 0, 0}});
   if (thermal()) heat_grid_.assign(nodes, HeatNode{});
   if (s.heat == HeatMethod::implicit) implicit_mass_.assign(nodes, 0);
+  if (!setup_.colliders.empty()) near_collider_.assign(nodes, 0);
   bx_ = (nx_ + kBlock - 1) / kBlock;
   by_ = (ny_ + kBlock - 1) / kBlock;
   bz_ = (nz_ + kBlock - 1) / kBlock;
@@ -482,10 +483,12 @@ void MpmSolver::phase_grid(Real dt) {
                                           heat_grid_[k + nz].f[4] - heat_grid_[k - nz].f[4],
                                           heat_grid_[k + 1].f[4] - heat_grid_[k - 1].f[4]);
           Real hot_k = 0, hot_kt = 0;  // Σ a_c β_c and Σ a_c β_c θ_c over the hot colliders
+          bool near = false;
           for (std::size_t ci = 0; ci < setup_.colliders.size(); ++ci) {
             const GridCollider& c = setup_.colliders[ci];
             const RigidPose& pose = collider_poses_[ci];
             const WallContact w = signed_distance(c.collider.geometry, pose.to_rest(xi));
+            near = near || w.distance < 2 * dx_;
             if (exchange && w.distance < 3 * dx_) {
               const Vec3 n = pose.rotation * w.normal;
               const Real facing = std::max(Real(0), area.dot(n));
@@ -501,6 +504,7 @@ void MpmSolver::phase_grid(Real dt) {
             apply_contact(rel, pose.rotation * w.normal, c.contact, c.friction);
             v = rel + vc;
           }
+          if (!near_collider_.empty()) near_collider_[k] = near;
           for_each_wall(walls, xi, 0.0, [&](const WallContact& w) { apply_contact(v, w.normal, Contact::separate, setup_.domain_friction); });
           node.mv[0] = v.x(), node.mv[1] = v.y(), node.mv[2] = v.z();
           if (!heat) continue;
@@ -620,6 +624,11 @@ void MpmSolver::g2p(Real dt) {
     set_deformation_gradient(p, df * deformation_gradient(p));
     j_[p] *= df.determinant();
     x_[p] += dt * vp;
+    if (!near_collider_.empty()) {
+      // The node nearest the particle's old position (it moves less than a cell).
+      const std::size_t nearest = std::size_t(g.x() + 0.5) * syz + std::size_t(g.y() + 0.5) * nz + std::size_t(g.z() + 0.5);
+      if (near_collider_[nearest]) push_out_of_colliders(p);
+    }
     if constexpr (kThermal) {
       const Real volume = j_[p] * volume0_[p];
       temperature_[p] += hs[0];
@@ -631,6 +640,28 @@ void MpmSolver::g2p(Real dt) {
       grad_s_[p] = d_inv * Vec3(hg[0][1], hg[1][1], hg[2][1]);
     }
   }, 1024);
+}
+
+// Grid contact alone lets material seep through a collider only one or two
+// cells thick (nodes inside it are sparse; the pancake's receiving pan leaked
+// 1.7% of the batter). A particle that ends a step inside a collider is put
+// back on its surface, and its velocity relative to the collider gets the
+// same contact condition as the grid nodes (docs/physics.md). Sticky
+// colliders are left out: grips hold the material that lies inside them.
+void MpmSolver::push_out_of_colliders(std::size_t p) {
+  for (std::size_t ci = 0; ci < setup_.colliders.size(); ++ci) {
+    const GridCollider& c = setup_.colliders[ci];
+    if (c.contact == Contact::sticky) continue;  // grips hold material inside them
+    const RigidPose& pose = collider_poses_[ci];
+    const WallContact w = signed_distance(c.collider.geometry, pose.to_rest(x_[p]));
+    if (w.distance >= 0) continue;
+    const Vec3 n = pose.rotation * w.normal;
+    x_[p] -= w.distance * n;
+    const Vec3 vc = pose.velocity_at(x_[p]);
+    Vec3 rel = v_[p] - vc;
+    apply_contact(rel, n, c.contact, c.friction);
+    v_[p] = rel + vc;
+  }
 }
 
 void MpmSolver::phase_g2p(Real dt) {

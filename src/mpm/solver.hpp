@@ -143,6 +143,7 @@ class MpmSolver final : public Solver {
   void check_state();
   template <bool kThermal> void p2g(Real dt);
   template <bool kThermal> void g2p(Real dt);
+  void push_out_of_colliders(std::size_t p);
 
   Setup setup_;
   ParticleSet particles_;
@@ -213,6 +214,9 @@ class MpmSolver final : public Solver {
   // reordered: the constitutive phase dispatches once per material group.
   std::vector<std::vector<std::uint32_t>> material_members_;
   std::vector<RigidPose> collider_poses_;  // per collider, refreshed each grid phase
+  // Per node, set by the grid phase: a collider surface is within 2 Δx, so the
+  // particles nearest this node are checked against the colliders after they move.
+  std::vector<std::uint8_t> near_collider_;
 
   std::size_t t_sort_, t_p2g_, t_grid_, t_g2p_, t_plastic_, t_heat_, t_browning_, t_check_;
   MixtureBudget budget_;
