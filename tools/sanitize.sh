@@ -15,6 +15,6 @@ if [ "${1:-}" = "--all" ]; then
 else
   cmake --build build-asan --parallel "$(nproc)" --target unit_tests fuzz_scene fuzz_mesh_files
   ./build-asan/tests/unit_tests
-  ./build-asan/tests/fuzz/fuzz_scene 3000 scenes tests/data
-  ./build-asan/tests/fuzz/fuzz_mesh_files 3000 scenes/meshes tests/data/meshes tests/fuzz/seeds
+  ./build-asan/tests/fuzz/fuzz_scene 3000 scenes tests/data tests/fuzz/seeds/scene
+  ./build-asan/tests/fuzz/fuzz_mesh_files 3000 scenes/meshes tests/data/meshes tests/fuzz/seeds/ply
 fi
