@@ -114,7 +114,9 @@ int command_run(const RunArgs& a) {
   auto solver = make_solver(scene);
   L.info("{} particles; output in {}", solver->particles().size(), out.string());
   RunOutput output(out, scene, log);
-  FrameLoopConfig cfg{scene.end_time, scene.fps};
+  FrameLoopConfig cfg;
+  cfg.end_time = scene.end_time;
+  cfg.fps = scene.fps;
   cfg.min_dt = scene.resolved["solver"]["min_dt"].get<double>();
   for (const auto& r : refused) L.warn("refused checkpoint: {}", r);
   if (checkpoint) {

@@ -3,14 +3,13 @@
 #include <tiny_obj_loader.h>
 
 #include <algorithm>
-#include <bit>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
 #include <sstream>
 
 #include "core/errors.hpp"
+#include "geometry/ply.hpp"
 
 namespace bakesim {
 namespace {
@@ -41,168 +40,31 @@ void validate(const TriangleMesh& m, const std::string& path) {
     if (!v.allFinite()) throw InputError(path, "mesh has a non-finite vertex coordinate");
 }
 
-// ---- PLY -------------------------------------------------------------------
-enum class PlyType { i8, u8, i16, u16, i32, u32, f32, f64 };
-
-PlyType parse_ply_type(const std::string& s, const std::string& path) {
-  if (s == "char" || s == "int8") return PlyType::i8;
-  if (s == "uchar" || s == "uint8") return PlyType::u8;
-  if (s == "short" || s == "int16") return PlyType::i16;
-  if (s == "ushort" || s == "uint16") return PlyType::u16;
-  if (s == "int" || s == "int32") return PlyType::i32;
-  if (s == "uint" || s == "uint32") return PlyType::u32;
-  if (s == "float" || s == "float32") return PlyType::f32;
-  if (s == "double" || s == "float64") return PlyType::f64;
-  throw InputError(path, "unknown PLY property type '" + s + "'");
-}
-
-int ply_size(PlyType t) {
-  switch (t) {
-    case PlyType::i8: case PlyType::u8: return 1;
-    case PlyType::i16: case PlyType::u16: return 2;
-    case PlyType::i32: case PlyType::u32: case PlyType::f32: return 4;
-    case PlyType::f64: return 8;
-  }
-  return 0;
-}
-
-struct PlyProperty {
-  std::string name;
-  PlyType type = PlyType::f32;
-  bool is_list = false;
-  PlyType count_type = PlyType::u8;
-};
-
-struct PlyElement {
-  std::string name;
-  std::size_t count = 0;
-  std::vector<PlyProperty> props;
-};
-
-class PlyReader {
- public:
-  PlyReader(std::istream& in, bool binary, bool big_endian, const std::string& path)
-      : in_(in), binary_(binary), swap_(big_endian != (std::endian::native == std::endian::big)), path_(path) {}
-
-  double read(PlyType t) {
-    if (!binary_) {
-      double v;
-      if (!(in_ >> v)) throw InputError(path_, "PLY body ends early or holds a non-number");
-      return v;
-    }
-    unsigned char buf[8];
-    const int n = ply_size(t);
-    if (!in_.read(reinterpret_cast<char*>(buf), n)) throw InputError(path_, "PLY body ends early");
-    if (swap_) std::reverse(buf, buf + n);
-    switch (t) {
-      case PlyType::i8: { std::int8_t v; std::memcpy(&v, buf, 1); return v; }
-      case PlyType::u8: return buf[0];
-      case PlyType::i16: { std::int16_t v; std::memcpy(&v, buf, 2); return v; }
-      case PlyType::u16: { std::uint16_t v; std::memcpy(&v, buf, 2); return v; }
-      case PlyType::i32: { std::int32_t v; std::memcpy(&v, buf, 4); return v; }
-      case PlyType::u32: { std::uint32_t v; std::memcpy(&v, buf, 4); return v; }
-      case PlyType::f32: { float v; std::memcpy(&v, buf, 4); return v; }
-      case PlyType::f64: { double v; std::memcpy(&v, buf, 8); return v; }
-    }
-    return 0;
-  }
-
- private:
-  std::istream& in_;
-  bool binary_;
-  bool swap_;
-  const std::string& path_;
-};
-
 }  // namespace
 
 TriangleMesh load_ply(const std::string& path) {
   check_readable(path);
   std::ifstream in(path, std::ios::binary);
-  std::string line;
-  std::getline(in, line);
-  if (line.rfind("ply", 0) != 0) throw InputError(path, "not a PLY file (first line is not 'ply')");
-  bool binary = false, big = false;
-  std::vector<PlyElement> elements;
-  bool header_done = false;
-  while (std::getline(in, line)) {
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    std::istringstream ls(line);
-    std::string word;
-    ls >> word;
-    if (word == "format") {
-      std::string fmt;
-      ls >> fmt;
-      if (fmt == "ascii") binary = false;
-      else if (fmt == "binary_little_endian") { binary = true; big = false; }
-      else if (fmt == "binary_big_endian") { binary = true; big = true; }
-      else throw InputError(path, "unknown PLY format '" + fmt + "'");
-    } else if (word == "element") {
-      PlyElement e;
-      ls >> e.name >> e.count;
-      if (!ls) throw InputError(path, "malformed PLY element line: " + line);
-      elements.push_back(e);
-    } else if (word == "property") {
-      if (elements.empty()) throw InputError(path, "PLY property before any element");
-      PlyProperty p;
-      std::string t;
-      ls >> t;
-      if (t == "list") {
-        std::string ct, it;
-        ls >> ct >> it >> p.name;
-        p.is_list = true;
-        p.count_type = parse_ply_type(ct, path);
-        p.type = parse_ply_type(it, path);
-      } else {
-        p.type = parse_ply_type(t, path);
-        ls >> p.name;
-      }
-      elements.back().props.push_back(p);
-    } else if (word == "end_header") {
-      header_done = true;
-      break;
-    }
-  }
-  if (!header_done) throw InputError(path, "PLY header has no end_header");
-
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  const PlyData ply = parse_ply(bytes.str(), path);
+  const PlyElement* vertex = ply.find("vertex");
+  if (!vertex) throw InputError(path, "PLY file has no vertex element");
+  const PlyProperty *x = vertex->find("x"), *y = vertex->find("y"), *z = vertex->find("z");
+  if (!x || !y || !z || x->is_list || y->is_list || z->is_list) throw InputError(path, "PLY vertex element lacks x, y or z");
+  const PlyElement* face = ply.find("face");
+  const PlyProperty* indices = face ? face->find("vertex_indices") : nullptr;
+  if (face && !indices) indices = face->find("vertex_index");
+  if (!indices || !indices->is_list) throw InputError(path, "PLY file has no face element with a vertex_indices list");
   TriangleMesh mesh;
-  PlyReader reader(in, binary, big, path);
-  for (const PlyElement& e : elements) {
-    const bool is_vertex = e.name == "vertex", is_face = e.name == "face";
-    int ix = -1, iy = -1, iz = -1, iface = -1;
-    for (std::size_t k = 0; k < e.props.size(); ++k) {
-      if (e.props[k].name == "x") ix = int(k);
-      if (e.props[k].name == "y") iy = int(k);
-      if (e.props[k].name == "z") iz = int(k);
-      if (e.props[k].is_list && (e.props[k].name == "vertex_indices" || e.props[k].name == "vertex_index")) iface = int(k);
-    }
-    if (is_vertex && (ix < 0 || iy < 0 || iz < 0)) throw InputError(path, "PLY vertex element lacks x, y or z");
-    if (is_face && iface < 0) throw InputError(path, "PLY face element lacks a vertex_indices list");
-    if (e.count > 500'000'000) throw InputError(path, "PLY element count is implausibly large");
-    for (std::size_t r = 0; r < e.count; ++r) {
-      Vec3 v = Vec3::Zero();
-      for (std::size_t k = 0; k < e.props.size(); ++k) {
-        const PlyProperty& p = e.props[k];
-        if (p.is_list) {
-          const double cnt = reader.read(p.count_type);
-          if (!(cnt >= 0 && cnt <= 1e6)) throw InputError(path, "PLY list has an implausible length");
-          std::vector<int> idx(static_cast<std::size_t>(cnt));
-          for (auto& i : idx) {
-            const double value = reader.read(p.type);  // NaN and out-of-range values must not reach the cast
-            if (!(value >= 0 && value <= double(std::numeric_limits<int>::max()))) throw InputError(path, "PLY face has an invalid vertex index");
-            i = static_cast<int>(value);
-          }
-          if (is_face && int(k) == iface)
-            for (std::size_t q = 1; q + 1 < idx.size(); ++q) mesh.triangles.push_back({idx[0], idx[q], idx[q + 1]});
-        } else {
-          const double val = reader.read(p.type);
-          if (int(k) == ix) v.x() = val;
-          if (int(k) == iy) v.y() = val;
-          if (int(k) == iz) v.z() = val;
-        }
-      }
-      if (is_vertex) mesh.vertices.push_back(v);
-    }
+  mesh.vertices.reserve(vertex->count);
+  for (std::size_t i = 0; i < vertex->count; ++i) mesh.vertices.emplace_back(x->values[i], y->values[i], z->values[i]);
+  for (const auto& polygon : indices->lists) {
+    // parse_ply bounds indices to uint32; validate() checks them against the vertex count.
+    auto index = [&](std::size_t k) {
+      return polygon[k] > std::uint32_t(std::numeric_limits<int>::max()) ? -1 : int(polygon[k]);
+    };
+    for (std::size_t q = 1; q + 1 < polygon.size(); ++q) mesh.triangles.push_back({index(0), index(q), index(q + 1)});
   }
   validate(mesh, path);
   return mesh;

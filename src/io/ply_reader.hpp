@@ -1,38 +1,14 @@
 #pragma once
-// A reader for binary little-endian and ASCII PLY files: every element with
-// its scalar properties (as double) and list properties (as uint32 lists).
-// Malformed input throws InputError naming `where`; it never reads past the
-// end of the bytes (the fuzzing target of issue 7 relies on that).
-#include <cstdint>
+// Particle frames and surface meshes from PLY data (geometry/ply.hpp).
 #include <string>
-#include <string_view>
-#include <vector>
 
 #include "core/particles.hpp"
+#include "geometry/ply.hpp"
 #include "surface/surface.hpp"
 
 namespace bakesim {
 
-struct PlyProperty {
-  std::string name;
-  bool is_list = false;
-  std::vector<double> values;                      // scalar: one per element item
-  std::vector<std::vector<std::uint32_t>> lists;   // list: one per element item
-};
 
-struct PlyElement {
-  std::string name;
-  std::size_t count = 0;
-  std::vector<PlyProperty> properties;
-  const PlyProperty* find(const std::string& property) const;
-};
-
-struct PlyData {
-  std::vector<PlyElement> elements;
-  const PlyElement* find(const std::string& element) const;
-};
-
-PlyData parse_ply(std::string_view bytes, const std::string& where);
 
 // A particle frame written by encode_ply back into a particle set: x/y/z as
 // "position", name_x/_y/_z triples as vectors, int properties as integers,

@@ -76,7 +76,7 @@ TEST(Meshes, ObjCubeLoadsAndFillsWithParticles) {
   EXPECT_FALSE(shape.contains(Vec3(1.2, 2.05, 3.05)));
 }
 
-TEST(Meshes, PlyAsciiAndBinaryAgree) {
+TEST(Meshes, PlyAsciiAndBinaryOfEitherByteOrderAgree) {
   const fs::path a = temp_dir() / "tet_ascii.ply", b = temp_dir() / "tet_binary.ply";
   std::ofstream(a) << "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
                       "element face 4\nproperty list uchar int vertex_indices\nend_header\n"
@@ -94,10 +94,32 @@ TEST(Meshes, PlyAsciiAndBinaryAgree) {
       f.write(reinterpret_cast<const char*>(t), sizeof t);
     }
   }
-  const TriangleMesh ma = load_mesh(a.string()), mb = load_mesh(b.string());
+  // The same tetrahedron big-endian (float coordinates, ushort indices), byte by byte.
+  const fs::path c = temp_dir() / "tet_big_endian.ply";
+  {
+    std::ofstream f(c, std::ios::binary);
+    f << "ply\nformat binary_big_endian 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+         "property float z\nelement face 4\nproperty list uchar ushort vertex_indices\nend_header\n";
+    auto put = [&f](const unsigned char* bytes, int n) { f.write(reinterpret_cast<const char*>(bytes), n); };
+    const unsigned char zero[4] = {0, 0, 0, 0}, one[4] = {0x3f, 0x80, 0, 0};  // 1.0f big-endian
+    const int coords[12] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1};
+    for (int k : coords) put(k ? one : zero, 4);
+    const unsigned char faces[4][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+    for (const auto& t : faces) {
+      const unsigned char n = 3;
+      put(&n, 1);
+      for (unsigned char i : t) {
+        const unsigned char be[2] = {0, i};
+        put(be, 2);
+      }
+    }
+  }
+  const TriangleMesh ma = load_mesh(a.string()), mb = load_mesh(b.string()), mc = load_mesh(c.string());
   EXPECT_EQ(ma.triangles, mb.triangles);
+  EXPECT_EQ(ma.triangles, mc.triangles);
   EXPECT_NEAR(ma.signed_volume(), 1.0 / 6.0, 1e-7);
   EXPECT_NEAR(mb.signed_volume(), 1.0 / 6.0, 1e-12);
+  EXPECT_NEAR(mc.signed_volume(), 1.0 / 6.0, 1e-12);
 }
 
 TEST(Meshes, BadFilesNameTheirPath) {

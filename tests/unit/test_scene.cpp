@@ -135,7 +135,7 @@ TEST(Scene, MissingMeshFileIsNamed) {
 TEST(Scene, UnreadableMeshFileIsNamed) {
   const auto dir = std::filesystem::temp_directory_path() / "bakesim_test_mesh";
   std::filesystem::create_directories(dir);
-  std::ofstream(dir / "broken.ply") << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nend_header\n";
+  std::ofstream(dir / "broken.ply") << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nend_header\n0\n1\n2\n";
   json d = base_scene();
   d["bodies"][0]["shape"] = {{"type", "mesh"}, {"file", (dir / "broken.ply").string()}};
   expect_error(d, {"bodies[0].shape.file", "broken.ply", "lacks x, y or z"});
