@@ -7,9 +7,10 @@
 # * a full disk (a small tmpfs, where this machine lets us mount one) or a
 #   file-size limit (ulimit -f, always) stops the run with a non-zero exit
 #   code and a message naming the file; no temporary file is left and every
-#   frame that was written equals the same frame of an unhindered run.
+#   frame that was written equals the same frame of an unhindered run;
+# * a read-only output directory (a read-only tmpfs) is reported with its path.
 source "$(dirname "$0")/common.sh"
-trap 'umount "$OUT/disk" 2>/dev/null; rm -rf "$OUT"' EXIT
+trap 'umount "$OUT/disk" "$OUT/ro" 2>/dev/null; rm -rf "$OUT"' EXIT
 
 # --- time-step floor
 "$BAKESIM" run "$ROOT/tests/data/fails_min_dt.json" --out "$OUT/floor" --threads 2 --quiet 2>"$OUT/floor.txt"
@@ -51,6 +52,18 @@ if mount -t tmpfs -o size=2m bakesim-test "$OUT/disk" 2>/dev/null; then
   umount "$OUT/disk"
 else
   echo "skipped: cannot mount a tmpfs here (not root, or no CAP_SYS_ADMIN); the file-size limit below covers the same path"
+fi
+
+# --- a read-only output directory (a read-only tmpfs; root ignores permission bits)
+mkdir -p "$OUT/ro"
+if mount -t tmpfs -o ro,size=1m bakesim-test-ro "$OUT/ro" 2>/dev/null; then
+  "$BAKESIM" run "$ROOT/tests/data/resume_mpm.json" --out "$OUT/ro/run" --quiet 2>"$OUT/ro.txt"
+  rc=$?
+  cat "$OUT/ro.txt"
+  check '[ $rc -eq 1 ] && grep -q "$OUT/ro/run.*Read-only file system" "$OUT/ro.txt"' "read-only directory: exit 1, the message names the path and the cause"
+  umount "$OUT/ro"
+else
+  echo "skipped: cannot mount a read-only tmpfs here"
 fi
 
 # --- a file-size limit: frames (235 kB) fit under 300 kB, the first checkpoint does not
