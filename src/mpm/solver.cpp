@@ -643,8 +643,8 @@ void MpmSolver::g2p(Real dt) {
 }
 
 // Grid contact alone lets material seep through a collider only one or two
-// cells thick (nodes inside it are sparse; the pancake's receiving pan leaked
-// 1.7% of the batter). A particle that ends a step inside a collider is put
+// cells thick (nodes inside it are sparse; the pancake's receiving pan let
+// 5.8% of the batter into or through its floor). A particle that ends a step inside a collider is put
 // back on its surface, and its velocity relative to the collider gets the
 // same contact condition as the grid nodes (docs/physics.md). Sticky
 // colliders are left out: grips hold the material that lies inside them.
