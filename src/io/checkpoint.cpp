@@ -77,7 +77,7 @@ class Reader {
   void read_values(std::vector<T>& v, std::uint64_t n) {
     need(n * sizeof(T));
     v.resize(n);
-    std::memcpy(v.data(), b_.data() + pos_, n * sizeof(T));
+    std::memcpy(static_cast<void*>(v.data()), b_.data() + pos_, n * sizeof(T));
     pos_ += n * sizeof(T);
   }
   void need(std::uint64_t n) const {

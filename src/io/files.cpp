@@ -7,6 +7,7 @@
 #include <cstring>
 #include <fstream>
 #include <sstream>
+#include <vector>
 
 #include "core/errors.hpp"
 
@@ -29,8 +30,34 @@ void ensure_directory(const fs::path& dir) {
   if (!fs::is_directory(dir, ec)) throw IoError(dir.string() + ": exists and is not a directory");
 }
 
+namespace {
+const std::string kTemporaryMark = ".tmp";
+
+fs::path temporary_for(const fs::path& path) {
+  return path.parent_path() / ("." + path.filename().string() + kTemporaryMark + std::to_string(::getpid()));
+}
+
+bool is_temporary(const std::string& name) {
+  const std::size_t mark = name.rfind(kTemporaryMark);
+  if (name.empty() || name[0] != '.' || mark == std::string::npos || mark + kTemporaryMark.size() == name.size()) return false;
+  for (std::size_t i = mark + kTemporaryMark.size(); i < name.size(); ++i)
+    if (name[i] < '0' || name[i] > '9') return false;
+  return true;
+}
+}  // namespace
+
+int remove_atomic_temporaries(const fs::path& dir) {
+  std::error_code ec;
+  std::vector<fs::path> found;
+  for (auto it = fs::recursive_directory_iterator(dir, ec); !ec && it != fs::recursive_directory_iterator(); it.increment(ec))
+    if (it->is_regular_file(ec) && is_temporary(it->path().filename().string())) found.push_back(it->path());
+  int removed = 0;
+  for (const auto& p : found) removed += fs::remove(p, ec) ? 1 : 0;
+  return removed;
+}
+
 void write_file_atomic(const fs::path& path, std::string_view bytes) {
-  const fs::path tmp = path.parent_path() / ("." + path.filename().string() + ".tmp" + std::to_string(::getpid()));
+  const fs::path tmp = temporary_for(path);
   const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd < 0) throw IoError(path.string() + ": cannot write: " + std::strerror(errno));
   std::size_t done = 0;

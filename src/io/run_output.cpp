@@ -177,6 +177,8 @@ void RunOutput::resume_after(int frame, std::vector<std::int32_t> follow_ids) {
     if (std::stoi(fs::path(file).stem().string()) <= frame) pvd_.push_back({time, file});
   }
   if (!pvd_.empty()) write_file_atomic(dir_ / "particles.pvd", encode_pvd(pvd_));
+  // Half-written temporaries of the stopped run (killed in the middle of a write).
+  remove_atomic_temporaries(dir_);
   // Files of frames after the checkpoint.
   for (const char* sub : {"frames", "meshes"}) {
     std::error_code ec;

@@ -77,9 +77,10 @@ double centre_value(const mpm::MpmSolver& s, const std::string& quantity, double
   return sum / n;
 }
 
-class SlabHeat : public ::testing::TestWithParam<std::string> {};
-
 }  // namespace
+
+// Outside the anonymous namespace: the test classes derive from it (unity builds warn otherwise).
+class SlabHeat : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(SlabHeat, CentreTemperatureFollowsThePlaneWallSeries) {
   // ρ c = 1e6 J/(m³ K), κ = 1 W/(m K): α = 1e-6 m²/s, L²/α = 400 s; h = 50 W/(m² K): Bi = 1.
