@@ -58,38 +58,31 @@ int remove_atomic_temporaries(const fs::path& dir) {
 
 void write_file_atomic(const fs::path& path, std::string_view bytes) {
   const fs::path tmp = temporary_for(path);
-  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd < 0) throw IoError(path.string() + ": cannot write: " + std::strerror(errno));
+  // Any failure closes and removes the temporary, then names the file and the cause.
+  auto fail = [&](const char* what) {
+    const int err = errno;
+    if (fd >= 0) ::close(fd);
+    ::unlink(tmp.c_str());
+    throw IoError(path.string() + ": " + what + ": " + std::strerror(err));
+  };
   std::size_t done = 0;
   while (done < bytes.size()) {
     const ssize_t w = ::write(fd, bytes.data() + done, bytes.size() - done);
     if (w < 0) {
       if (errno == EINTR) continue;
-      const int err = errno;
-      ::close(fd);
-      ::unlink(tmp.c_str());
-      throw IoError(path.string() + ": write failed: " + std::strerror(err));
+      fail("write failed");
     }
     done += static_cast<std::size_t>(w);
   }
   // Flushed to the disk before the rename, so a crash or power loss leaves the
   // old file or the new one, and a full disk shows up here at the latest.
-  if (::fsync(fd) != 0 && errno != EINVAL) {
-    const int err = errno;
-    ::close(fd);
-    ::unlink(tmp.c_str());
-    throw IoError(path.string() + ": write failed: " + std::strerror(err));
-  }
-  if (::close(fd) != 0) {
-    const int err = errno;
-    ::unlink(tmp.c_str());
-    throw IoError(path.string() + ": write failed: " + std::strerror(err));
-  }
-  if (::rename(tmp.c_str(), path.c_str()) != 0) {
-    const int err = errno;
-    ::unlink(tmp.c_str());
-    throw IoError(path.string() + ": cannot rename into place: " + std::strerror(err));
-  }
+  if (::fsync(fd) != 0 && errno != EINVAL) fail("write failed");
+  const int closed = ::close(fd);
+  fd = -1;
+  if (closed != 0) fail("write failed");
+  if (::rename(tmp.c_str(), path.c_str()) != 0) fail("cannot rename into place");
 }
 
 }  // namespace bakesim
