@@ -243,6 +243,11 @@ mpm::Setup build_mpm_setup(const Ctx& c, const json& doc, const sph::Setup& sph)
     if (model != "none" && curved) {
       SettingCurves sc{yield, viscosity};
       if (!pj["set_temperature"].is_null()) sc.set_temperature = pj["set_temperature"].get<double>();
+      sc.set_softening = pj["set_softening"].get<double>();
+      sc.brittle_water_loss = pj["brittle_water_loss"].get<double>();
+      if (sc.set_softening > 0 && (model != "cam_clay" || pj["set_temperature"].is_null() || !(m["water"]["saturation"].get<double>() > 0)))
+        c.fail(mpath + ".plasticity.set_softening",
+               "softens the set material as it dries: needs model \"cam_clay\", a set_temperature and water.saturation > 0");
       mat.setting = sc;
     }
     const Real yield0 = yield(20.0), viscosity0 = viscosity(20.0);
@@ -283,6 +288,13 @@ mpm::Setup build_mpm_setup(const Ctx& c, const json& doc, const sph::Setup& sph)
     mpm::GridCollider g;
     g.collider.name = cj["name"].get<std::string>();
     g.collider.geometry = build_collider_geometry(c, path + ".shape", cj["shape"], st.cell_size);
+    // A cup or container wall under two cells thick has grid nodes inside it
+    // that are nearer its far face: their contact normal points the wrong way
+    // and material sinks into the wall (the muffin cups did).
+    if (cj["shape"].contains("wall_thickness") && cj["shape"]["wall_thickness"].get<double>() < 2 * st.cell_size - 1e-12)
+      c.fail(path + ".shape.wall_thickness",
+             fmt::format("{} m is thinner than two MPM cells ({} m): material would sink into the wall; make it at least {} m",
+                         cj["shape"]["wall_thickness"].get<double>(), st.cell_size, 2 * st.cell_size));
     // Meshes act through a signed distance grid at half the MPM cell size.
     if (const auto* mesh = std::get_if<MeshCollider>(&g.collider.geometry))
       g.collider.geometry = mesh->with_signed_distance(0.5 * st.cell_size, 3 * st.cell_size);

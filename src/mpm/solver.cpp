@@ -76,6 +76,7 @@ MpmSolver::MpmSolver(Setup setup)
       volume0_(particles_.add_scalar("initial_volume", "m^3")),
       j_(particles_.add_scalar("J", "")),
       jp_(particles_.add_scalar("plastic_J", "")),
+      jp_set_(particles_.add_scalar("plastic_J_at_set", "", false, 1.0)),
       temperature_(particles_.add_scalar("temperature", "degC")),
       browning_(particles_.add_scalar("browning", "")),
       f0_(particles_.add_vector("F_col0", "", false)),
@@ -169,6 +170,7 @@ void MpmSolver::build_particles() {
       m_[k] = mat.density * vol;
       j_[k] = 1;
       jp_[k] = 1;
+      jp_set_[k] = 1;
       temperature_[k] = body.temperature;
       heat_capacity_[k] = m_[k] * mat.specific_heat;
       const bool wet = !s.baseline && mat.water.active();
@@ -698,7 +700,7 @@ void MpmSolver::phase_plasticity(Real dt) {
           if constexpr (!std::is_same_v<P, NoPlasticity>) {
             P law = plastic_law;
             if (heat && mat.setting) {
-              if (theta >= mat.setting->set_temperature) gelatinized_[i] = 1;
+              if (!gelatinized_[i] && theta >= mat.setting->set_temperature) gelatinized_[i] = 1, jp_set_[i] = jp_[i];
               const Real te = mat.setting->effective_temperature(theta, gelatinized_[i] != 0);
               law.yield_stress = mat.setting->yield_stress(te);
               law.viscosity = mat.setting->viscosity(te);
@@ -709,6 +711,11 @@ void MpmSolver::phase_plasticity(Real dt) {
               // plastic dilation, so gas (whose Kirchhoff pressure n R θ / n_p barely
               // falls as pores grow) expands a dough to a finite size.
               law.yield_stress *= jp_[i];
+              // Brittle set crust (a departure, docs/physics.md): dilation after setting weakens it.
+              if (wet && mat.setting && gelatinized_[i]) {
+                const Real water_lost = 1 - water_[i] / (mat.water.saturation * mat.water.water_density * volume0_[i]);
+                law.yield_stress *= mat.setting->softening_factor(jp_[i], jp_set_[i], water_lost);
+              }
             }
             const Vec3 trial = s.sigma;
             s = return_map(law, mat.lame, dt, jp_[i], s);

@@ -154,6 +154,7 @@ class MpmSolver final : public Solver {
   std::vector<Real>& volume0_;
   std::vector<Real>& j_;
   std::vector<Real>& jp_;
+  std::vector<Real>& jp_set_;  // J^P when the particle set (gelatinized)
   std::vector<Real>& temperature_;
   std::vector<Real>& browning_;  // browning index B = ΔE/ΔE∞
   std::vector<Vec3>& f0_;

@@ -8,6 +8,7 @@
 #include "physics/bubbles.hpp"
 #include "physics/heat.hpp"
 #include "physics/maxwell.hpp"
+#include "physics/mixture.hpp"
 
 using namespace bakesim;
 
@@ -111,4 +112,21 @@ TEST(BubbleLaws, CoolingRisenGasContractsByTheGasLawAndNeverReexpands) {
   EXPECT_NEAR(contracted_reference_density(500.0, 25.0, 100.0), 500.0 * 373.15 / 298.15, 1e-9);
   EXPECT_DOUBLE_EQ(contracted_reference_density(500.0, 100.0, 100.0), 500.0);
   EXPECT_DOUBLE_EQ(contracted_reference_density(500.0, 180.0, 100.0), 500.0);  // hotter: keeps the risen volume
+}
+
+TEST(SetCrustSoftening, ActsOnlyOnDilationAfterSettingOfADriedParticle) {
+  SettingCurves sc{PiecewiseLinear::constant(1000), PiecewiseLinear::constant(10)};
+  sc.set_temperature = 90;
+  EXPECT_EQ(sc.softening_factor(1.5, 1.2, 0.5), 1.0);  // k = 0: the paper's law
+  sc.set_softening = 60;
+  sc.brittle_water_loss = 0.02;
+  EXPECT_EQ(sc.softening_factor(1.1, 1.2, 0.5), 1.0);   // compacted since setting
+  EXPECT_EQ(sc.softening_factor(1.32, 1.2, 0.02), 1.0);  // still moist: crumb
+  // Fully brittle from twice the threshold: exp(−k (J/J_set − 1)).
+  EXPECT_NEAR(sc.softening_factor(1.32, 1.2, 0.05), std::exp(-60 * 0.1), 1e-12);
+  EXPECT_NEAR(sc.softening_factor(1.32, 1.2, 0.9), std::exp(-60 * 0.1), 1e-12);
+  // Halfway up the ramp (water lost 0.03): half the rate.
+  EXPECT_NEAR(sc.softening_factor(1.32, 1.2, 0.03), std::exp(-30 * 0.1), 1e-12);
+  // Monotone: more dilation, weaker.
+  EXPECT_LT(sc.softening_factor(1.4, 1.2, 0.1), sc.softening_factor(1.3, 1.2, 0.1));
 }

@@ -215,3 +215,42 @@ TEST(Scene, MinDtMustBeBelowMaxDt) {
   d["solver"]["min_dt"] = 1e-5;
   EXPECT_DOUBLE_EQ(parse_scene(d.dump(), "scene.json", ".").resolved["solver"]["min_dt"].get<double>(), 1e-5);
 }
+
+namespace {
+json mpm_scene() {
+  return json::parse(R"({
+    "solver": {"type": "mpm", "mpm": {"cell_size": 0.005}},
+    "time": {"end": 0.1},
+    "domain": {"min": [-0.1, -0.02, -0.1], "max": [0.1, 0.1, 0.1]},
+    "materials": {"dough": {"density": 500, "plasticity": {"model": "cam_clay", "initial_porosity": 0.2,
+                  "yield_stress": {"curve": "piecewise_linear", "points": [[20, 300], [90, 3000]]}, "set_temperature": 90},
+                  "water": {"saturation": 0.4}}},
+    "bodies": [{"name": "muffin", "material": "dough",
+                "shape": {"type": "cylinder", "center": [0, 0.02, 0], "axis": [0, 1, 0], "radius": 0.02, "height": 0.02}}],
+    "colliders": [{"name": "cup", "shape": {"type": "cup", "base": [0, 0.0, 0], "radius": 0.022, "height": 0.03,
+                   "wall_thickness": 0.01}}]
+  })");
+}
+}  // namespace
+
+TEST(Scene, MpmCupWallsMustBeTwoCellsThick) {
+  json d = mpm_scene();
+  EXPECT_NO_THROW(parse_scene(d.dump(), "scene.json", "."));
+  d["colliders"][0]["shape"]["wall_thickness"] = 0.006;
+  expect_error(d, {"colliders[0].shape.wall_thickness", "thinner than two MPM cells", "0.01"});
+}
+
+TEST(Scene, SetSofteningNeedsCamClayASetTemperatureAndWater) {
+  json d = mpm_scene();
+  d["materials"]["dough"]["plasticity"]["set_softening"] = 60;
+  EXPECT_NO_THROW(parse_scene(d.dump(), "scene.json", "."));
+  json dry = d;
+  dry["materials"]["dough"]["water"]["saturation"] = 0;
+  expect_error(dry, {"materials.dough.plasticity.set_softening", "water.saturation > 0"});
+  json unset = d;
+  unset["materials"]["dough"]["plasticity"].erase("set_temperature");
+  expect_error(unset, {"materials.dough.plasticity.set_softening", "set_temperature"});
+  json ramp = d;
+  ramp["materials"]["dough"]["plasticity"]["brittle_water_loss"] = 0;
+  expect_error(ramp, {"materials.dough.plasticity.brittle_water_loss"});
+}
