@@ -266,6 +266,7 @@ mpm::Setup build_mpm_setup(const Ctx& c, const json& doc, const sph::Setup& sph)
     const json& lj = m["leavening"];
     mat.gas.rate = lj["rate"].get<double>();
     mat.gas.peak_temperature = lj["peak_temperature"].get<double>();
+    if (!lj["amount"].is_null()) mat.gas.amount = lj["amount"].get<double>();
     mat.gas.width = lj["width"].get<double>();
     if (mat.gas.active() && model != "cam_clay" && mat.initial_porosity <= 0)
       c.fail(mpath + ".leavening", "the gas needs pores: give plasticity.initial_porosity > 0 (and cam_clay so the dough can expand)");

@@ -737,7 +737,7 @@ void MpmSolver::phase_plasticity(Real dt) {
               temperature_[i] -= dt * expansion * (theta + kZeroCelsius) * div_v * volume / heat_capacity_[i];
             }
             if (gas) {
-              co2_[i] += dtb * mat.gas.generation_rate(theta, mat.density);
+              co2_[i] = mat.gas.generated(co2_[i], dtb, theta, mat.density);
               const Real jp_gas = Leavening::kirchhoff_pressure(co2_[i], theta, gas_porosity(jp_[i], mat.initial_porosity));
               gas_pressure_[i] = jp_gas / j;
               kirchhoff_pressure += jp_gas;

@@ -28,10 +28,18 @@ struct Leavening {
   Real rate = 0;                // a, mol/(kg s) of bake time
   Real peak_temperature = 40;   // θ_r, °C
   Real width = 20;              // Δθ, °C
+  // Moles of CO2 the leavener can give per kg of material (an addition: the
+  // spec's Gaussian never runs out, so a cake cooling back through θ_r after
+  // the oven would rise again). Infinite: the spec.
+  Real amount = std::numeric_limits<Real>::infinity();
   bool active() const { return rate > 0; }
   Real generation_rate(Real temperature, Real density) const {
     const Real z = (temperature - peak_temperature) / width;
     return rate * density * std::exp(-z * z);
+  }
+  // n after dt of bake time, never beyond the leavener's amount.
+  Real generated(Real moles, Real dt, Real temperature, Real density) const {
+    return std::min(moles + dt * generation_rate(temperature, density), std::max(moles, amount * density));
   }
   // J·P (the Kirchhoff pressure) for n moles per initial volume; the porosity
   // is floored at `kMinPorosity` so a dough without pores cannot reach an

@@ -130,3 +130,18 @@ TEST(SetCrustSoftening, ActsOnlyOnDilationAfterSettingOfADriedParticle) {
   // Monotone: more dilation, weaker.
   EXPECT_LT(sc.softening_factor(1.4, 1.2, 0.1), sc.softening_factor(1.3, 1.2, 0.1));
 }
+
+TEST(Leavening, GenerationStopsWhenTheLeavenerIsSpent) {
+  Leavening gas;
+  gas.rate = 1e-5;
+  gas.peak_temperature = 60;
+  gas.width = 15;
+  const Real density = 1000, dt = 1;
+  // At the peak: a ρ₀ per second of bake, unlimited by default (the spec).
+  EXPECT_NEAR(gas.generated(0.5, dt, 60, density), 0.5 + dt * 1e-5 * density, 1e-12);
+  gas.amount = 1e-4;  // mol/kg: at most 0.1 mol per m³ of initial volume here
+  EXPECT_NEAR(gas.generated(0.05, dt, 60, density), 0.06, 1e-12);
+  EXPECT_DOUBLE_EQ(gas.generated(0.095, dt, 60, density), 0.1);
+  EXPECT_DOUBLE_EQ(gas.generated(0.1, dt, 60, density), 0.1);   // spent: no more
+  EXPECT_DOUBLE_EQ(gas.generated(0.12, dt, 60, density), 0.12); // never taken back
+}
