@@ -633,7 +633,11 @@ void MpmSolver::g2p(Real dt) {
     }
     if constexpr (kThermal) {
       const Real volume = j_[p] * volume0_[p];
-      temperature_[p] += hs[0];
+      // FLIP: θ_p += Σ w Δθ_i (spec 4.3), kept within the coldest and hottest
+      // temperatures in the scene (particles, air, colliders) before the step:
+      // where the material was cut (the lava cake's knife) FLIP increments took
+      // particles to 6 °C in a 20–25 °C room.
+      temperature_[p] = std::clamp(temperature_[p] + hs[0], flip_bounds_[0], flip_bounds_[1]);
       exchange_[p] = volume * hs[1];
       exchange_t_[p] = volume * hs[2];
       water_[p] *= 1 + hs[3];
@@ -668,8 +672,23 @@ void MpmSolver::push_out_of_colliders(std::size_t p) {
 
 void MpmSolver::phase_g2p(Real dt) {
   ScopedPhase t(timers_, t_g2p_);
-  if (thermal()) g2p<true>(dt);
-  else g2p<false>(dt);
+  if (!thermal()) return g2p<false>(dt);
+  // The hottest and coldest temperatures a particle may take this step.
+  const Real inf = std::numeric_limits<Real>::infinity();
+  Real lo = deterministic_reduce(
+      x_.size(), inf, [&](std::size_t b, std::size_t e) { return *std::min_element(&temperature_[b], &temperature_[b] + (e - b)); },
+      [](Real a, Real c) { return std::min(a, c); });
+  Real hi = deterministic_reduce(
+      x_.size(), -inf, [&](std::size_t b, std::size_t e) { return *std::max_element(&temperature_[b], &temperature_[b] + (e - b)); },
+      [](Real a, Real c) { return std::max(a, c); });
+  const Real scale = setup_.settings.bake_time_scale;
+  for (const Real air : {setup_.air_temperature(time_ * scale), setup_.air_temperature((time_ + dt) * scale)})
+    lo = std::min(lo, air), hi = std::max(hi, air);
+  for (std::size_t ci = 0; ci < setup_.colliders.size(); ++ci)
+    if (setup_.colliders[ci].collider.temperature)
+      lo = std::min(lo, collider_temperatures_[ci]), hi = std::max(hi, collider_temperatures_[ci]);
+  flip_bounds_ = {lo, hi};
+  g2p<true>(dt);
 }
 
 // Spec 3.1–3.4: per material group, the gelatinization flag and the

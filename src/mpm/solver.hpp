@@ -4,6 +4,7 @@
 // squares force and velocity gradient of MLS-MPM (Hu et al. 2018; departure
 // noted in docs/physics.md), explicit grid update, finite-strain
 // elastoplasticity on the particles, colliders on the grid.
+#include <array>
 #include <optional>
 #include <string>
 #include <vector>
@@ -144,6 +145,7 @@ class MpmSolver final : public Solver {
   template <bool kThermal> void p2g(Real dt);
   template <bool kThermal> void g2p(Real dt);
   void push_out_of_colliders(std::size_t p);
+  std::array<Real, 2> flip_bounds_{};  // coldest, hottest temperature before the step (G2P)
 
   Setup setup_;
   ParticleSet particles_;
