@@ -10,17 +10,20 @@
 
 namespace bakesim {
 
-std::vector<Aabb> ContainerCollider::slabs() const {
+std::array<Aabb, 5> ContainerCollider::slabs() const {
   const Real t = wall_thickness;
   const Vec3& a = inner.min;
   const Vec3& b = inner.max;
-  return {
+  // The slabs overlap at the edges and corners (each wall reaches through the
+  // floor and across the neighbouring walls): slabs that only touched would
+  // leave seams inside the solid along which particles slid out.
+  return {{
       {Vec3(a.x() - t, a.y() - t, a.z() - t), Vec3(b.x() + t, a.y(), b.z() + t)},  // floor
-      {Vec3(a.x() - t, a.y(), a.z() - t), Vec3(a.x(), b.y(), b.z() + t)},          // -x wall
-      {Vec3(b.x(), a.y(), a.z() - t), Vec3(b.x() + t, b.y(), b.z() + t)},          // +x wall
-      {Vec3(a.x(), a.y(), a.z() - t), Vec3(b.x(), b.y(), a.z())},                  // -z wall
-      {Vec3(a.x(), a.y(), b.z()), Vec3(b.x(), b.y(), b.z() + t)},                  // +z wall
-  };
+      {Vec3(a.x() - t, a.y() - t, a.z() - t), Vec3(a.x(), b.y(), b.z() + t)},      // -x wall
+      {Vec3(b.x(), a.y() - t, a.z() - t), Vec3(b.x() + t, b.y(), b.z() + t)},      // +x wall
+      {Vec3(a.x() - t, a.y() - t, a.z() - t), Vec3(b.x() + t, b.y(), a.z())},      // -z wall
+      {Vec3(a.x() - t, a.y() - t, b.z()), Vec3(b.x() + t, b.y(), b.z() + t)},      // +z wall
+  }};
 }
 
 WallContact box_contact(const Aabb& box, const Vec3& p) {

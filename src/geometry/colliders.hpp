@@ -4,6 +4,7 @@
 // walls) answer "which wall faces are near this point" with a distance and the
 // face normal pointing into free space; mesh colliders answer segment queries
 // against facing triangles (thesis 3.1.9).
+#include <array>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -36,7 +37,7 @@ struct BoxCollider {
 struct ContainerCollider {
   Aabb inner;
   Real wall_thickness;
-  std::vector<Aabb> slabs() const;
+  std::array<Aabb, 5> slabs() const;  // floor and four walls
 };
 
 // Solid capped cylinder (a grip, a rolling pin, a post).
@@ -147,10 +148,13 @@ void for_each_wall(const ColliderGeometry& g, const Vec3& p, Real range, Fn&& fn
                                        cyl->height, p);
     if (c.distance < range) fn(c);
   } else if (const auto* cup = std::get_if<CupCollider>(&g)) {
+    // The wall reaches down through the floor: parts that only touched would
+    // leave a seam inside the solid (the wall's lower face, one ε above the
+    // floor's top) along which particles slid out through the wall.
     const Real t = cup->wall_thickness;
     const WallContact parts[3] = {
         ring_contact(cup->base, cup->axis, 0, cup->radius + t, -t, 0, p),                        // floor
-        ring_contact(cup->base, cup->axis, cup->radius, cup->radius + t, 0, cup->height, p),     // wall
+        ring_contact(cup->base, cup->axis, cup->radius, cup->radius + t, -t, cup->height, p),    // wall
         cup->tube_radius > 0 ? ring_contact(cup->base, cup->axis, 0, cup->tube_radius, 0, cup->height, p)
                              : WallContact{std::numeric_limits<Real>::infinity(), cup->axis}};  // tube
     for (const WallContact& c : parts)
