@@ -24,12 +24,14 @@ int run_bench(const BenchOptions& opt) {
   if (!mpm && opt.solver != "sph") throw InputError("bench --solver", "unknown solver '" + opt.solver + "' (sph, mpm)");
   fmt::print("bakesim bench: {}, {} steps per case, machine has {} hardware threads\n",
              mpm ? "MPM cube squashed on the floor" : "SPH dam break", opt.steps, hw);
-  fmt::print("{:>10} {:>13} {:>8} {:>14} {:>12}\n", "particles", mpm ? "model" : "search", "threads", "particle-steps/s", "ms/step");
+  fmt::print("{:>10} {:>13} {:>8} {:>14} {:>12}\n", "particles", mpm ? "model" : "search", "threads",
+             "particle-steps/s", "ms/step");
   for (long n : opt.particles)
     for (const std::string& variant : mpm ? opt.models : opt.searches)
       for (int t : threads) {
         tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(t));
-        Scene scene = parse_scene(mpm ? mpm_cube_scene_json(n, variant) : dam_break_scene_json(n, variant), "bench", ".");
+        Scene scene =
+            parse_scene(mpm ? mpm_cube_scene_json(n, variant) : dam_break_scene_json(n, variant), "bench", ".");
         auto solver = make_solver(scene);
         // Warm up so the column has started to move and caches are hot.
         for (int i = 0; i < 5; ++i) solver->step(solver->max_stable_dt());

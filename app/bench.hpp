@@ -6,7 +6,7 @@ namespace bakesim {
 
 struct BenchOptions {
   std::vector<long> particles{50000, 200000};
-  std::vector<int> threads;  // empty: 1 and all
+  std::vector<int> threads;    // empty: 1 and all
   std::string solver = "sph";  // sph: dam break; mpm: cubes dropped on the floor
   std::vector<std::string> searches{"grid", "kdtree"};
   std::vector<std::string> models{"elastic", "viscoplastic"};  // MPM materials

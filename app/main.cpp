@@ -42,7 +42,7 @@ struct RunArgs {
   std::string resume;
   int threads = 0;
   double end_time = -1;
-  int checkpoint_frames = -1;     // -1: the scene's output.checkpoint
+  int checkpoint_frames = -1;  // -1: the scene's output.checkpoint
   double checkpoint_minutes = -1;
   bool quiet = false;
 };
@@ -90,7 +90,8 @@ int command_run(const RunArgs& a) {
     scene_dir = checkpoint->scene_dir;
     scene = parse_scene(read_file(dir / "scene.json"), (dir / "scene.json").string(), scene_dir);
     if (scene_fingerprint(scene.resolved) != checkpoint->scene_fingerprint)
-      throw InputError(checkpoint_file.string(), "checkpoint of a different scene than " + (dir / "scene.json").string());
+      throw InputError(checkpoint_file.string(),
+                       "checkpoint of a different scene than " + (dir / "scene.json").string());
   } else {
     scene = load_scene(a.scene);
     scene_dir = fs::absolute(fs::path(a.scene)).parent_path().string();
@@ -103,14 +104,17 @@ int command_run(const RunArgs& a) {
   const int threads = a.threads > 0 ? a.threads : hw;
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
 
-  const fs::path out = !a.resume.empty() ? fs::path(a.resume) : a.out.empty() ? fs::path("out") / scene.name : fs::path(a.out);
+  const fs::path out = !a.resume.empty() ? fs::path(a.resume)
+                       : a.out.empty()   ? fs::path("out") / scene.name
+                                         : fs::path(a.out);
   RunLog log(!a.quiet);
   auto& L = log.logger();
   if (!a.resume.empty()) {
     std::ifstream old(out / "log.txt");
     if (old) L.info("(log of the run before the resume follows)\n{}", read_file(out / "log.txt"));
   }
-  L.info("bakesim {} run of {} ({} threads of {})", BAKESIM_VERSION, a.resume.empty() ? a.scene : a.resume, threads, hw);
+  L.info("bakesim {} run of {} ({} threads of {})", BAKESIM_VERSION, a.resume.empty() ? a.scene : a.resume, threads,
+         hw);
   auto solver = make_solver(scene);
   L.info("{} particles; output in {}", solver->particles().size(), out.string());
   RunOutput output(out, scene, log);
@@ -125,7 +129,8 @@ int command_run(const RunArgs& a) {
     cfg.start_frame = checkpoint->frame;
     cfg.start_steps = checkpoint->steps;
     cfg.start_last_dt = checkpoint->last_dt;
-    L.info("resumed from {} (frame {}, t = {:.6g} s, {} steps)", checkpoint_file.string(), checkpoint->frame, solver->time(), checkpoint->steps);
+    L.info("resumed from {} (frame {}, t = {:.6g} s, {} steps)", checkpoint_file.string(), checkpoint->frame,
+           solver->time(), checkpoint->steps);
   }
   const auto& ck = scene.resolved["output"]["checkpoint"];
   const int every_frames = a.checkpoint_frames >= 0 ? a.checkpoint_frames : ck["every_frames"].get<int>();
@@ -173,8 +178,8 @@ int command_run(const RunArgs& a) {
     L.error("{}", e.what());
     if (last_good) {
       const fs::path file = write_checkpoint(out, *last_good, 3);
-      L.error("the state of frame {}, the last complete one, is in {}: resume with bakesim run --resume {}", last_good->frame,
-              file.string(), out.string());
+      L.error("the state of frame {}, the last complete one, is in {}: resume with bakesim run --resume {}",
+              last_good->frame, file.string(), out.string());
     }
     L.error("frames up to the last complete one are in {}", out.string());
     output.flush_log();
@@ -184,9 +189,11 @@ int command_run(const RunArgs& a) {
   std::signal(SIGTERM, SIG_DFL);
   if (s.stopped) {
     const int sig = g_stop_signal.load();
-    L.warn("stopped by signal {} after frame {}; resume with: bakesim run --resume {}", sig, s.last_frame, out.string());
+    L.warn("stopped by signal {} after frame {}; resume with: bakesim run --resume {}", sig, s.last_frame,
+           out.string());
     output.flush_log();
-    fmt::print(stderr, "bakesim: stopped after frame {} (checkpoint written); resume with: bakesim run --resume {}\n", s.last_frame, out.string());
+    fmt::print(stderr, "bakesim: stopped after frame {} (checkpoint written); resume with: bakesim run --resume {}\n",
+               s.last_frame, out.string());
     return 128 + sig;
   }
   L.info("done: {} steps, {} frames, {:.2f} s wall, {:.3g} particle-steps/s", s.steps, s.frames, s.wall_seconds,
@@ -247,11 +254,11 @@ int command_mesh(const MeshArgs& a) {
     write_frame_mesh(run.dir / "meshes", f, mesh, settings);
     triangles += mesh.triangles.size();
     if (!q.closed_and_oriented())
-      fmt::print(stderr, "bakesim: warning: frame {} mesh has {} open, {} non-manifold and {} misoriented edges\n", f, q.boundary_edges,
-                 q.non_manifold_edges, q.misoriented_edges);
+      fmt::print(stderr, "bakesim: warning: frame {} mesh has {} open, {} non-manifold and {} misoriented edges\n", f,
+                 q.boundary_edges, q.non_manifold_edges, q.misoriented_edges);
   }
-  fmt::print(stderr, "bakesim: meshed {} frames ({} method, {} triangles in all) in {} into {}/meshes/\n", frames.size(), a.method,
-             triangles, format_duration(clock.seconds()), a.run_dir);
+  fmt::print(stderr, "bakesim: meshed {} frames ({} method, {} triangles in all) in {} into {}/meshes/\n",
+             frames.size(), a.method, triangles, format_duration(clock.seconds()), a.run_dir);
   return kExitOk;
 }
 
@@ -273,7 +280,8 @@ int main(int argc, char** argv) {
       "Examples:\n"
       "  bakesim run scenes/dam-break.json                 bake into out/dam-break/\n"
       "  bakesim run scenes/dam-break.json --out /tmp/db --threads 2 --end-time 0.5\n"
-      "  bakesim run --resume out/bread-roll               go on from the newest checkpoint (after Ctrl-C, a crash, a kill)\n"
+      "  bakesim run --resume out/bread-roll               go on from the newest checkpoint (after Ctrl-C, a crash, a "
+      "kill)\n"
       "  bakesim validate scenes/viscous-funnel.json       check a scene, print what it would simulate\n"
       "  bakesim bench --particles 50000,200000            SPH speed in particle-steps per second\n"
       "  bakesim bench --solver mpm --threads 1,2          MPM speed (100K and 500K points)\n"
@@ -282,14 +290,20 @@ int main(int argc, char** argv) {
       "  bakesim render out/bread-roll --mode particles --color temperature\n"
       "  bakesim plot out/bread-roll                       probe temperatures, volume, height as PNG\n"
       "  bakesim schema --markdown > docs/scene-reference.md\n"
-      "Exit codes: 0 ok, 1 runtime or I/O failure, 2 bad input, 3 simulation failure, 130/143 stopped by Ctrl-C/SIGTERM (checkpoint written).");
+      "Exit codes: 0 ok, 1 runtime or I/O failure, 2 bad input, 3 simulation failure, 130/143 stopped by "
+      "Ctrl-C/SIGTERM (checkpoint written).");
 
   RunArgs run_args;
   auto* run = app.add_subcommand("run", "Simulate a scene and write frames, stats.csv and log.txt");
   run->add_option("scene", run_args.scene, "Scene file (JSON)");
-  run->add_option("--resume", run_args.resume, "Go on with the run in this directory from its newest valid checkpoint")->excludes(run->get_option("scene"));
-  run->add_option("--checkpoint-every", run_args.checkpoint_frames, "Checkpoint every N frames (default: the scene's output.checkpoint)")->check(CLI::Range(0, 1000000));
-  run->add_option("--checkpoint-minutes", run_args.checkpoint_minutes, "Checkpoint after M minutes of wall time (default: the scene's, 10)")->check(CLI::Range(0.0, 1e6));
+  run->add_option("--resume", run_args.resume, "Go on with the run in this directory from its newest valid checkpoint")
+      ->excludes(run->get_option("scene"));
+  run->add_option("--checkpoint-every", run_args.checkpoint_frames,
+                  "Checkpoint every N frames (default: the scene's output.checkpoint)")
+      ->check(CLI::Range(0, 1000000));
+  run->add_option("--checkpoint-minutes", run_args.checkpoint_minutes,
+                  "Checkpoint after M minutes of wall time (default: the scene's, 10)")
+      ->check(CLI::Range(0.0, 1e6));
   run->add_option("--out,-o", run_args.out, "Output directory (default: out/SCENE_NAME)");
   run->add_option("--threads,-j", run_args.threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 4096));
   run->add_option("--end-time", run_args.end_time, "Override the scene's time.end (s)")->check(CLI::PositiveNumber);
@@ -301,23 +315,35 @@ int main(int argc, char** argv) {
 
   BenchOptions bench_opt;
   std::string bench_particles, bench_threads, bench_search = "grid,kdtree", bench_models = "elastic,viscoplastic";
-  auto* bench = app.add_subcommand("bench", "Benchmark a solver: SPH dam break or MPM cube (particle-steps per second)");
-  bench->add_option("--solver", bench_opt.solver, "sph (dam break) or mpm (cube squashed on the floor)")->check(CLI::IsMember({"sph", "mpm"}));
-  bench->add_option("--model", bench_models, "MPM: comma-separated materials: elastic, viscoplastic, full (the thermomechanical dough: heat, water, gas)");
-  bench->add_option("--particles", bench_particles, "Comma-separated particle counts (default 50000,200000 for SPH, 100000,500000 for MPM)");
+  auto* bench =
+      app.add_subcommand("bench", "Benchmark a solver: SPH dam break or MPM cube (particle-steps per second)");
+  bench->add_option("--solver", bench_opt.solver, "sph (dam break) or mpm (cube squashed on the floor)")
+      ->check(CLI::IsMember({"sph", "mpm"}));
+  bench->add_option(
+      "--model", bench_models,
+      "MPM: comma-separated materials: elastic, viscoplastic, full (the thermomechanical dough: heat, water, gas)");
+  bench->add_option("--particles", bench_particles,
+                    "Comma-separated particle counts (default 50000,200000 for SPH, 100000,500000 for MPM)");
   bench->add_option("--threads", bench_threads, "Comma-separated thread counts (default: 1 and all)");
   bench->add_option("--search", bench_search, "Comma-separated neighbour searches: grid, kdtree");
   bench->add_option("--steps", bench_opt.steps, "Timed steps per case")->check(CLI::Range(1, 100000));
 
   MeshArgs mesh_args;
-  auto* mesh = app.add_subcommand("mesh", "Reconstruct surface meshes (PLY, OBJ+MTL) of a run's frames into RUN_DIR/meshes/");
+  auto* mesh =
+      app.add_subcommand("mesh", "Reconstruct surface meshes (PLY, OBJ+MTL) of a run's frames into RUN_DIR/meshes/");
   mesh->add_option("run_dir", mesh_args.run_dir, "Run directory (made by bakesim run)")->required();
-  mesh->add_option("--method", mesh_args.method, "levelset (default) or wyvill (the thesis's field, Eq 3.59-3.60)")->check(CLI::IsMember({"levelset", "wyvill"}));
-  mesh->add_option("--color,--colour", mesh_args.colour, "Quantity the vertices are coloured by: browning (default), temperature, saturation, ...");
-  mesh->add_option("--range", mesh_args.range, "LOW,HIGH of the colour quantity (default: browning 0,1; temperature 20,220)");
+  mesh->add_option("--method", mesh_args.method, "levelset (default) or wyvill (the thesis's field, Eq 3.59-3.60)")
+      ->check(CLI::IsMember({"levelset", "wyvill"}));
+  mesh->add_option("--color,--colour", mesh_args.colour,
+                   "Quantity the vertices are coloured by: browning (default), temperature, saturation, ...");
+  mesh->add_option("--range", mesh_args.range,
+                   "LOW,HIGH of the colour quantity (default: browning 0,1; temperature 20,220)");
   mesh->add_option("--frame", mesh_args.frames, "Frame numbers to mesh (default: all)");
-  mesh->add_option("--voxel", mesh_args.voxel_ratio, "Voxel size as a fraction of the particle spacing (default: levelset 0.75, wyvill 0.5)")->check(CLI::Range(0.1, 2.0));
-  mesh->add_option("--threads,-j", mesh_args.threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 4096));
+  mesh->add_option("--voxel", mesh_args.voxel_ratio,
+                   "Voxel size as a fraction of the particle spacing (default: levelset 0.75, wyvill 0.5)")
+      ->check(CLI::Range(0.1, 2.0));
+  mesh->add_option("--threads,-j", mesh_args.threads, "Worker threads (default: all cores)")
+      ->check(CLI::Range(1, 4096));
 
   render::RenderRunOptions render_opt;
   std::string render_range, render_method = "levelset";
@@ -326,18 +352,25 @@ int main(int argc, char** argv) {
   render_cmd->add_option("run_dir", mesh_args.run_dir, "Run directory (made by bakesim run)")->required();
   render_cmd->add_option("--frame", render_opt.frames, "Frame numbers (default: the last frame)");
   render_cmd->add_flag("--all", render_opt.all_frames, "Every frame with a particle file");
-  render_cmd->add_option("--mode", render_opt.mode, "mesh (the surface, default) or particles")->check(CLI::IsMember({"mesh", "particles"}));
-  render_cmd->add_option("--color,--colour", render_opt.colour, "browning (default), temperature, saturation, or any particle quantity");
+  render_cmd->add_option("--mode", render_opt.mode, "mesh (the surface, default) or particles")
+      ->check(CLI::IsMember({"mesh", "particles"}));
+  render_cmd->add_option("--color,--colour", render_opt.colour,
+                         "browning (default), temperature, saturation, or any particle quantity");
   render_cmd->add_option("--range", render_range, "LOW,HIGH of the colour quantity");
-  render_cmd->add_option("--method", render_method, "Surface method for --mode mesh: levelset or wyvill")->check(CLI::IsMember({"levelset", "wyvill"}));
-  render_cmd->add_option("--width", render_opt.width, "Picture width (default: the scene's render.width, 1280)")->check(CLI::Range(16, 8192));
-  render_cmd->add_option("--height", render_opt.height, "Picture height (default: the scene's render.height, 720)")->check(CLI::Range(16, 8192));
+  render_cmd->add_option("--method", render_method, "Surface method for --mode mesh: levelset or wyvill")
+      ->check(CLI::IsMember({"levelset", "wyvill"}));
+  render_cmd->add_option("--width", render_opt.width, "Picture width (default: the scene's render.width, 1280)")
+      ->check(CLI::Range(16, 8192));
+  render_cmd->add_option("--height", render_opt.height, "Picture height (default: the scene's render.height, 720)")
+      ->check(CLI::Range(16, 8192));
   render_cmd->add_flag("--movie", render_opt.movie, "Also assemble an MP4 of the rendered frames (needs ffmpeg)");
   render_cmd->add_flag("--strip", render_opt.strip, "Also write an image strip of up to six of the rendered frames");
-  render_cmd->add_option("--threads,-j", render_threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 4096));
+  render_cmd->add_option("--threads,-j", render_threads, "Worker threads (default: all cores)")
+      ->check(CLI::Range(1, 4096));
 
   std::string plot_dir;
-  auto* plot = app.add_subcommand("plot", "Plot a run's stats.csv into RUN_DIR/plots/ (temperatures, volume, height, moisture)");
+  auto* plot =
+      app.add_subcommand("plot", "Plot a run's stats.csv into RUN_DIR/plots/ (temperatures, volume, height, moisture)");
   plot->add_option("run_dir", plot_dir, "Run directory (made by bakesim run)")->required();
 
   bool markdown = false;
@@ -353,7 +386,8 @@ int main(int argc, char** argv) {
 
   try {
     if (*run) {
-      if (run_args.scene.empty() && run_args.resume.empty()) throw InputError("run", "give a scene file, or --resume RUN_DIR");
+      if (run_args.scene.empty() && run_args.resume.empty())
+        throw InputError("run", "give a scene file, or --resume RUN_DIR");
       return command_run(run_args);
     }
     if (*validate) return command_validate(validate_path);

@@ -17,8 +17,10 @@ nlohmann::json block(long particles, const std::string& search) {
           {"time", {{"end", 1.0}}},
           {"domain", {{"min", {0, 0, 0}}, {"max", {side, 2 * side, side}}}},
           {"materials", {{"water", {{"density", 1000.0}, {"xsph", 0.1}}}}},
-          {"bodies", {{{"name", "block"}, {"material", "water"},
-                       {"shape", {{"type", "box"}, {"min", {0, 0, 0}}, {"max", {side, side, side}}}}}}}};
+          {"bodies",
+           {{{"name", "block"},
+             {"material", "water"},
+             {"shape", {{"type", "box"}, {"min", {0, 0, 0}}, {"max", {side, side, side}}}}}}}};
 }
 
 std::unique_ptr<sph::SphSolver> make(long particles, const std::string& search) {

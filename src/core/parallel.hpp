@@ -14,10 +14,9 @@ namespace bakesim {
 template <class Fn>
 void parallel_for(std::size_t n, Fn&& fn, std::size_t grain = 256) {
   if (n == 0) return;
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, grain),
-                    [&](const tbb::blocked_range<std::size_t>& r) {
-                      for (std::size_t i = r.begin(); i != r.end(); ++i) fn(i);
-                    });
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, grain), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t i = r.begin(); i != r.end(); ++i) fn(i);
+  });
 }
 
 // Calls fn(begin, end) on contiguous blocks; for loops that keep per-block scratch.

@@ -15,8 +15,8 @@ namespace bakesim {
 
 struct AttributeInfo {
   std::string name;
-  std::string unit;     // SI unit, "" for dimensionless, "degC" for temperatures
-  bool exported = true; // written to frame files
+  std::string unit;      // SI unit, "" for dimensionless, "degC" for temperatures
+  bool exported = true;  // written to frame files
 };
 
 template <class T>
@@ -27,12 +27,10 @@ struct Attribute {
 
 class ParticleSet {
  public:
-  std::vector<Real>& add_scalar(const std::string& name, const std::string& unit,
-                                bool exported = true, Real fill = 0.0);
-  std::vector<Vec3>& add_vector(const std::string& name, const std::string& unit,
-                                bool exported = true);
-  std::vector<std::int32_t>& add_int(const std::string& name, bool exported = true,
-                                     std::int32_t fill = 0);
+  std::vector<Real>& add_scalar(const std::string& name, const std::string& unit, bool exported = true,
+                                Real fill = 0.0);
+  std::vector<Vec3>& add_vector(const std::string& name, const std::string& unit, bool exported = true);
+  std::vector<std::int32_t>& add_int(const std::string& name, bool exported = true, std::int32_t fill = 0);
 
   std::vector<Real>& scalar(const std::string& name);
   std::vector<Vec3>& vector(const std::string& name);

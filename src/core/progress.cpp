@@ -39,9 +39,8 @@ void ProgressBar::update(const ProgressState& s, bool force) {
   std::string bar(static_cast<std::size_t>(filled), '#');
   bar.resize(width, '.');
   const std::string line =
-      fmt::format("[{}] {:3.0f}%  frame {}/{}  t={:.3f}/{:.3f} s  {:.0f} steps/s  ETA {}", bar,
-                  100.0 * fraction, s.frame, s.frames, s.time, s.end_time, rate_,
-                  format_duration(eta));
+      fmt::format("[{}] {:3.0f}%  frame {}/{}  t={:.3f}/{:.3f} s  {:.0f} steps/s  ETA {}", bar, 100.0 * fraction,
+                  s.frame, s.frames, s.time, s.end_time, rate_, format_duration(eta));
   if (tty_)
     std::fprintf(stream_, "\r%s\033[K", line.c_str());
   else

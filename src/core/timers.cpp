@@ -30,8 +30,7 @@ std::string PhaseTimers::report(long steps) const {
   std::string out;
   for (std::size_t i = 0; i < names_.size(); ++i) {
     out += fmt::format("  {:<14} {:9.3f} ms/step {:5.1f}%\n", names_[i],
-                       steps > 0 ? 1e3 * seconds_[i] / double(steps) : 0.0,
-                       sum > 0 ? 100.0 * seconds_[i] / sum : 0.0);
+                       steps > 0 ? 1e3 * seconds_[i] / double(steps) : 0.0, sum > 0 ? 100.0 * seconds_[i] / sum : 0.0);
   }
   return out;
 }

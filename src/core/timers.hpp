@@ -28,11 +28,9 @@ class PhaseTimers {
 // RAII scope that adds its lifetime to a phase.
 class ScopedPhase {
  public:
-  ScopedPhase(PhaseTimers& timers, int id)
-      : timers_(timers), id_(id), start_(std::chrono::steady_clock::now()) {}
+  ScopedPhase(PhaseTimers& timers, int id) : timers_(timers), id_(id), start_(std::chrono::steady_clock::now()) {}
   ~ScopedPhase() {
-    timers_.accumulate(
-        id_, std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count());
+    timers_.accumulate(id_, std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count());
   }
   ScopedPhase(const ScopedPhase&) = delete;
   ScopedPhase& operator=(const ScopedPhase&) = delete;
@@ -46,9 +44,7 @@ class ScopedPhase {
 class Stopwatch {
  public:
   Stopwatch() : start_(std::chrono::steady_clock::now()) {}
-  double seconds() const {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-  }
+  double seconds() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count(); }
   void restart() { start_ = std::chrono::steady_clock::now(); }
 
  private:

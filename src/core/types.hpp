@@ -12,13 +12,9 @@ using Mat3 = Eigen::Matrix<Real, 3, 3>;
 struct Aabb {
   Vec3 min = Vec3::Constant(0.0);
   Vec3 max = Vec3::Constant(0.0);
-  bool contains(const Vec3& p) const {
-    return (p.array() >= min.array()).all() && (p.array() <= max.array()).all();
-  }
+  bool contains(const Vec3& p) const { return (p.array() >= min.array()).all() && (p.array() <= max.array()).all(); }
   Vec3 extent() const { return max - min; }
-  static Aabb empty_box() {
-    return {Vec3::Constant(1e300), Vec3::Constant(-1e300)};
-  }
+  static Aabb empty_box() { return {Vec3::Constant(1e300), Vec3::Constant(-1e300)}; }
   void expand(const Vec3& p) {
     min = min.cwiseMin(p);
     max = max.cwiseMax(p);

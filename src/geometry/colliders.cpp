@@ -36,8 +36,14 @@ WallContact box_contact(const Aabb& box, const Vec3& p) {
   Vec3 n = Vec3::UnitY();
   for (int k = 0; k < 3; ++k) {
     const Real lo = p[k] - box.min[k], hi = box.max[k] - p[k];
-    if (lo < best) { best = lo; n = -Vec3::Unit(k); }
-    if (hi < best) { best = hi; n = Vec3::Unit(k); }
+    if (lo < best) {
+      best = lo;
+      n = -Vec3::Unit(k);
+    }
+    if (hi < best) {
+      best = hi;
+      n = Vec3::Unit(k);
+    }
   }
   return {-best, n};
 }
@@ -110,7 +116,8 @@ int triangle_feature(const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c)
 
 }  // namespace
 
-SignedDistanceGrid SignedDistanceGrid::from_mesh(const TriangleMesh& mesh, const TriangleGrid& index, Real cell, Real band) {
+SignedDistanceGrid SignedDistanceGrid::from_mesh(const TriangleMesh& mesh, const TriangleGrid& index, Real cell,
+                                                 Real band) {
   // Pseudo-normals: faces, edges (sum of the adjacent face normals), vertices
   // (face normals weighted by the incident angle).
   const std::size_t nt = mesh.triangles.size();
@@ -121,7 +128,8 @@ SignedDistanceGrid SignedDistanceGrid::from_mesh(const TriangleMesh& mesh, const
     face[t] = mesh.normal(t);
     for (int k = 0; k < 3; ++k) {
       const int i = tri[k], j = tri[(k + 1) % 3], l = tri[(k + 2) % 3];
-      const Vec3 e1 = (mesh.vertices[j] - mesh.vertices[i]).normalized(), e2 = (mesh.vertices[l] - mesh.vertices[i]).normalized();
+      const Vec3 e1 = (mesh.vertices[j] - mesh.vertices[i]).normalized(),
+                 e2 = (mesh.vertices[l] - mesh.vertices[i]).normalized();
       vertex[i] += std::acos(std::clamp(e1.dot(e2), Real(-1), Real(1))) * face[t];
       auto key = std::minmax(i, j);
       auto [it, fresh] = edge.emplace(std::make_pair(key.first, key.second), face[t]);
@@ -137,42 +145,48 @@ SignedDistanceGrid SignedDistanceGrid::from_mesh(const TriangleMesh& mesh, const
   g.ny = static_cast<int>(std::ceil(g.box.extent().y() / cell)) + 1;
   g.nz = static_cast<int>(std::ceil(g.box.extent().z() / cell)) + 1;
   g.phi.assign(std::size_t(g.nx) * g.ny * g.nz, static_cast<float>(band));
-  parallel_for(g.phi.size(), [&](std::size_t k) {
-    const std::size_t ix = k % g.nx, iy = (k / g.nx) % g.ny, iz = k / (std::size_t(g.nx) * g.ny);
-    const Vec3 p = g.box.min + cell * Vec3(Real(ix), Real(iy), Real(iz));
-    Real best = band * band;
-    Vec3 best_q = p, best_n = Vec3::Zero();
-    index.for_each_candidate({p - Vec3::Constant(band), p + Vec3::Constant(band)}, [&](std::uint32_t t) {
-      const auto& tri = mesh.triangles[t];
-      const Vec3 &a = mesh.vertices[tri[0]], &bb = mesh.vertices[tri[1]], &c = mesh.vertices[tri[2]];
-      const Vec3 q = closest_point_on_triangle(p, a, bb, c);
-      const Real d2 = (p - q).squaredNorm();
-      if (d2 >= best) return;
-      best = d2;
-      best_q = q;
-      const int f = triangle_feature(q, a, bb, c);
-      if (f < 3) {
-        best_n = vertex[tri[f]];
-      } else if (f < 6) {
-        const int i = tri[f - 3], j = tri[(f - 2) % 3];
-        best_n = edge.at(std::make_pair(std::min(i, j), std::max(i, j)));
-      } else {
-        best_n = face[t];
-      }
-    });
-    if (best >= band * band) return;
-    const Real d = std::sqrt(best);
-    g.phi[k] = static_cast<float>((p - best_q).dot(best_n) < 0 ? -d : d);
-  }, 256);
+  parallel_for(
+      g.phi.size(),
+      [&](std::size_t k) {
+        const std::size_t ix = k % g.nx, iy = (k / g.nx) % g.ny, iz = k / (std::size_t(g.nx) * g.ny);
+        const Vec3 p = g.box.min + cell * Vec3(Real(ix), Real(iy), Real(iz));
+        Real best = band * band;
+        Vec3 best_q = p, best_n = Vec3::Zero();
+        index.for_each_candidate({p - Vec3::Constant(band), p + Vec3::Constant(band)}, [&](std::uint32_t t) {
+          const auto& tri = mesh.triangles[t];
+          const Vec3 &a = mesh.vertices[tri[0]], &bb = mesh.vertices[tri[1]], &c = mesh.vertices[tri[2]];
+          const Vec3 q = closest_point_on_triangle(p, a, bb, c);
+          const Real d2 = (p - q).squaredNorm();
+          if (d2 >= best) return;
+          best = d2;
+          best_q = q;
+          const int f = triangle_feature(q, a, bb, c);
+          if (f < 3) {
+            best_n = vertex[tri[f]];
+          } else if (f < 6) {
+            const int i = tri[f - 3], j = tri[(f - 2) % 3];
+            best_n = edge.at(std::make_pair(std::min(i, j), std::max(i, j)));
+          } else {
+            best_n = face[t];
+          }
+        });
+        if (best >= band * band) return;
+        const Real d = std::sqrt(best);
+        g.phi[k] = static_cast<float>((p - best_q).dot(best_n) < 0 ? -d : d);
+      },
+      256);
   return g;
 }
 
 WallContact SignedDistanceGrid::sample(const Vec3& p) const {
   const Vec3 u = (p - box.min) / cell;
-  const int i = static_cast<int>(std::floor(u.x())), j = static_cast<int>(std::floor(u.y())), k = static_cast<int>(std::floor(u.z()));
+  const int i = static_cast<int>(std::floor(u.x())), j = static_cast<int>(std::floor(u.y())),
+            k = static_cast<int>(std::floor(u.z()));
   if (i < 0 || j < 0 || k < 0 || i + 1 >= nx || j + 1 >= ny || k + 1 >= nz) return {band, Vec3::UnitY()};
   const Real fx = u.x() - i, fy = u.y() - j, fz = u.z() - k;
-  auto at = [&](int a, int b, int c) -> Real { return phi[std::size_t(i + a) + std::size_t(nx) * (std::size_t(j + b) + std::size_t(ny) * (k + c))]; };
+  auto at = [&](int a, int b, int c) -> Real {
+    return phi[std::size_t(i + a) + std::size_t(nx) * (std::size_t(j + b) + std::size_t(ny) * (k + c))];
+  };
   Real value = 0;
   Vec3 grad = Vec3::Zero();
   for (int c = 0; c < 2; ++c)
@@ -213,8 +227,8 @@ SegmentHit mesh_segment_hits(const MeshCollider& m, const Vec3& from, const Vec3
     const Vec3& n = (*m.normals)[t];
     if (n.dot(dir) >= 0) return;  // only triangles facing the incoming particle
     const auto& tri = mesh.triangles[t];
-    const auto hit = intersect_ray_triangle(from, dir, mesh.vertices[tri[0]], mesh.vertices[tri[1]],
-                                            mesh.vertices[tri[2]]);
+    const auto hit =
+        intersect_ray_triangle(from, dir, mesh.vertices[tri[0]], mesh.vertices[tri[1]], mesh.vertices[tri[2]]);
     if (hit && *hit <= reach) {
       out.normal_sum += n;
       ++out.hits;

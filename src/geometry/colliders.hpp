@@ -144,8 +144,8 @@ void for_each_wall(const ColliderGeometry& g, const Vec3& p, Real range, Fn&& fn
       if (c.distance < range) fn(c);
     }
   } else if (const auto* cyl = std::get_if<CylinderCollider>(&g)) {
-    const WallContact c = ring_contact(cyl->center - 0.5 * cyl->height * cyl->axis, cyl->axis, 0, cyl->radius, 0,
-                                       cyl->height, p);
+    const WallContact c =
+        ring_contact(cyl->center - 0.5 * cyl->height * cyl->axis, cyl->axis, 0, cyl->radius, 0, cyl->height, p);
     if (c.distance < range) fn(c);
   } else if (const auto* cup = std::get_if<CupCollider>(&g)) {
     // The wall and the tube reach down through the floor: parts that only
@@ -153,8 +153,8 @@ void for_each_wall(const ColliderGeometry& g, const Vec3& p, Real range, Fn&& fn
     // ε above the floor's top) along which particles slid out through the wall.
     const Real t = cup->wall_thickness;
     const WallContact parts[3] = {
-        ring_contact(cup->base, cup->axis, 0, cup->radius + t, -t, 0, p),                        // floor
-        ring_contact(cup->base, cup->axis, cup->radius, cup->radius + t, -t, cup->height, p),    // wall
+        ring_contact(cup->base, cup->axis, 0, cup->radius + t, -t, 0, p),                      // floor
+        ring_contact(cup->base, cup->axis, cup->radius, cup->radius + t, -t, cup->height, p),  // wall
         cup->tube_radius > 0 ? ring_contact(cup->base, cup->axis, 0, cup->tube_radius, -t, cup->height, p)
                              : WallContact{std::numeric_limits<Real>::infinity(), cup->axis}};  // tube
     for (const WallContact& c : parts)

@@ -20,15 +20,13 @@ Vec3 TriangleMesh::normal(std::size_t t) const {
 
 Real TriangleMesh::signed_volume() const {
   Real v = 0;
-  for (const auto& t : triangles)
-    v += vertices[t[0]].dot(vertices[t[1]].cross(vertices[t[2]])) / 6.0;
+  for (const auto& t : triangles) v += vertices[t[0]].dot(vertices[t[1]].cross(vertices[t[2]])) / 6.0;
   return v;
 }
 
 Mat3 rotation_from_degrees(const Vec3& d) {
   const Real k = kPi / 180.0;
-  return (Eigen::AngleAxis<Real>(d.z() * k, Vec3::UnitZ()) *
-          Eigen::AngleAxis<Real>(d.y() * k, Vec3::UnitY()) *
+  return (Eigen::AngleAxis<Real>(d.z() * k, Vec3::UnitZ()) * Eigen::AngleAxis<Real>(d.y() * k, Vec3::UnitY()) *
           Eigen::AngleAxis<Real>(d.x() * k, Vec3::UnitX()))
       .toRotationMatrix();
 }
@@ -43,8 +41,8 @@ void TriangleMesh::flip_orientation() {
   for (auto& t : triangles) std::swap(t[1], t[2]);
 }
 
-std::optional<Real> intersect_ray_triangle(const Vec3& origin, const Vec3& dir, const Vec3& a,
-                                           const Vec3& b, const Vec3& c) {
+std::optional<Real> intersect_ray_triangle(const Vec3& origin, const Vec3& dir, const Vec3& a, const Vec3& b,
+                                           const Vec3& c) {
   const Vec3 e1 = b - a, e2 = c - a;
   const Vec3 p = dir.cross(e2);
   const Real det = e1.dot(p);

@@ -28,8 +28,8 @@ Mat3 rotation_from_degrees(const Vec3& degrees);
 
 // Möller–Trumbore ray/triangle intersection; returns the ray parameter t ≥ 0
 // (hit point = origin + t * dir) or nothing.
-std::optional<Real> intersect_ray_triangle(const Vec3& origin, const Vec3& dir, const Vec3& a,
-                                           const Vec3& b, const Vec3& c);
+std::optional<Real> intersect_ray_triangle(const Vec3& origin, const Vec3& dir, const Vec3& a, const Vec3& b,
+                                           const Vec3& c);
 
 // Closest point to p on triangle (a, b, c), by Voronoi regions of the
 // vertices, edges and face.
@@ -57,8 +57,7 @@ class TriangleGrid {
 template <class Fn>
 void TriangleGrid::for_each_candidate(const Aabb& box, Fn&& fn) const {
   if (nx_ == 0) return;
-  if ((box.max.array() < bounds_.min.array()).any() || (box.min.array() > bounds_.max.array()).any())
-    return;
+  if ((box.max.array() < bounds_.min.array()).any() || (box.min.array() > bounds_.max.array()).any()) return;
   auto clampi = [](Real v, int n) { return std::max(0, std::min(n - 1, static_cast<int>(v))); };
   const Vec3 lo = (box.min - bounds_.min) / cell_;
   const Vec3 hi = (box.max - bounds_.min) / cell_;

@@ -51,7 +51,8 @@ TriangleMesh load_ply(const std::string& path) {
   const PlyElement* vertex = ply.find("vertex");
   if (!vertex) throw InputError(path, "PLY file has no vertex element");
   const PlyProperty *x = vertex->find("x"), *y = vertex->find("y"), *z = vertex->find("z");
-  if (!x || !y || !z || x->is_list || y->is_list || z->is_list) throw InputError(path, "PLY vertex element lacks x, y or z");
+  if (!x || !y || !z || x->is_list || y->is_list || z->is_list)
+    throw InputError(path, "PLY vertex element lacks x, y or z");
   const PlyElement* face = ply.find("face");
   const PlyProperty* indices = face ? face->find("vertex_indices") : nullptr;
   if (face && !indices) indices = face->find("vertex_index");

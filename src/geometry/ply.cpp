@@ -31,23 +31,36 @@ namespace {
 enum class Type { i8, u8, i16, u16, i32, u32, f32, f64 };
 
 bool parse_type(const std::string& s, Type& t) {
-  if (s == "char" || s == "int8") t = Type::i8;
-  else if (s == "uchar" || s == "uint8") t = Type::u8;
-  else if (s == "short" || s == "int16") t = Type::i16;
-  else if (s == "ushort" || s == "uint16") t = Type::u16;
-  else if (s == "int" || s == "int32") t = Type::i32;
-  else if (s == "uint" || s == "uint32") t = Type::u32;
-  else if (s == "float" || s == "float32") t = Type::f32;
-  else if (s == "double" || s == "float64") t = Type::f64;
-  else return false;
+  if (s == "char" || s == "int8")
+    t = Type::i8;
+  else if (s == "uchar" || s == "uint8")
+    t = Type::u8;
+  else if (s == "short" || s == "int16")
+    t = Type::i16;
+  else if (s == "ushort" || s == "uint16")
+    t = Type::u16;
+  else if (s == "int" || s == "int32")
+    t = Type::i32;
+  else if (s == "uint" || s == "uint32")
+    t = Type::u32;
+  else if (s == "float" || s == "float32")
+    t = Type::f32;
+  else if (s == "double" || s == "float64")
+    t = Type::f64;
+  else
+    return false;
   return true;
 }
 
 std::size_t type_size(Type t) {
   switch (t) {
-    case Type::i8: case Type::u8: return 1;
-    case Type::i16: case Type::u16: return 2;
-    case Type::i32: case Type::u32: case Type::f32: return 4;
+    case Type::i8:
+    case Type::u8: return 1;
+    case Type::i16:
+    case Type::u16: return 2;
+    case Type::i32:
+    case Type::u32:
+    case Type::f32: return 4;
     case Type::f64: return 8;
   }
   return 1;
@@ -74,14 +87,46 @@ class Cursor {
     if (swap_) std::reverse(p, p + n);
     pos_ += n;
     switch (t) {
-      case Type::i8: { std::int8_t v; std::memcpy(&v, p, 1); return v; }
-      case Type::u8: { std::uint8_t v; std::memcpy(&v, p, 1); return v; }
-      case Type::i16: { std::int16_t v; std::memcpy(&v, p, 2); return v; }
-      case Type::u16: { std::uint16_t v; std::memcpy(&v, p, 2); return v; }
-      case Type::i32: { std::int32_t v; std::memcpy(&v, p, 4); return v; }
-      case Type::u32: { std::uint32_t v; std::memcpy(&v, p, 4); return v; }
-      case Type::f32: { float v; std::memcpy(&v, p, 4); return v; }
-      case Type::f64: { double v; std::memcpy(&v, p, 8); return v; }
+      case Type::i8: {
+        std::int8_t v;
+        std::memcpy(&v, p, 1);
+        return v;
+      }
+      case Type::u8: {
+        std::uint8_t v;
+        std::memcpy(&v, p, 1);
+        return v;
+      }
+      case Type::i16: {
+        std::int16_t v;
+        std::memcpy(&v, p, 2);
+        return v;
+      }
+      case Type::u16: {
+        std::uint16_t v;
+        std::memcpy(&v, p, 2);
+        return v;
+      }
+      case Type::i32: {
+        std::int32_t v;
+        std::memcpy(&v, p, 4);
+        return v;
+      }
+      case Type::u32: {
+        std::uint32_t v;
+        std::memcpy(&v, p, 4);
+        return v;
+      }
+      case Type::f32: {
+        float v;
+        std::memcpy(&v, p, 4);
+        return v;
+      }
+      case Type::f64: {
+        double v;
+        std::memcpy(&v, p, 8);
+        return v;
+      }
     }
     return 0;
   }
@@ -111,7 +156,8 @@ class Cursor {
 PlyData parse_ply(std::string_view bytes, const std::string& where) {
   const std::string_view end_marker = "end_header";
   const std::size_t end = bytes.find(end_marker);
-  if (bytes.substr(0, 3) != "ply" || end == std::string_view::npos) throw InputError(where, "not a PLY file (no 'ply' magic or no end_header)");
+  if (bytes.substr(0, 3) != "ply" || end == std::string_view::npos)
+    throw InputError(where, "not a PLY file (no 'ply' magic or no end_header)");
   std::size_t data_start = end + end_marker.size();
   if (data_start < bytes.size() && bytes[data_start] == '\r') ++data_start;
   if (data_start < bytes.size() && bytes[data_start] == '\n') ++data_start;
@@ -128,9 +174,12 @@ PlyData parse_ply(std::string_view bytes, const std::string& where) {
     if (word == "format") {
       std::string f;
       ls >> f;
-      if (f == "ascii") ascii = true;
-      else if (f == "binary_big_endian") big_endian = true;
-      else if (f != "binary_little_endian") throw InputError(where, "unknown PLY format '" + f + "' (ascii, binary_little_endian or binary_big_endian)");
+      if (f == "ascii")
+        ascii = true;
+      else if (f == "binary_big_endian")
+        big_endian = true;
+      else if (f != "binary_little_endian")
+        throw InputError(where, "unknown PLY format '" + f + "' (ascii, binary_little_endian or binary_big_endian)");
       format_seen = true;
     } else if (word == "element") {
       PlyElement e;
@@ -148,7 +197,8 @@ PlyData parse_ply(std::string_view bytes, const std::string& where) {
       if (t == "list") {
         std::string ct, it;
         ls >> ct >> it;
-        if (!parse_type(ct, l.count_type) || !parse_type(it, l.type)) throw InputError(where, "bad list property '" + line + "'");
+        if (!parse_type(ct, l.count_type) || !parse_type(it, l.type))
+          throw InputError(where, "bad list property '" + line + "'");
         l.list = p.is_list = true;
       } else if (!parse_type(t, l.type)) {
         throw InputError(where, "unknown property type in '" + line + "'");
@@ -166,7 +216,8 @@ PlyData parse_ply(std::string_view bytes, const std::string& where) {
     PlyElement& el = ply.elements[e];
     // Each item takes at least one byte per property: refuse counts the data cannot hold.
     const std::size_t min_item = std::max<std::size_t>(1, el.properties.size());
-    if (el.count > cur.remaining() / min_item + 1) cur.fail(fmt::format("element '{}' claims {} items, more than the file holds", el.name, el.count));
+    if (el.count > cur.remaining() / min_item + 1)
+      cur.fail(fmt::format("element '{}' claims {} items, more than the file holds", el.name, el.count));
     for (auto& p : el.properties) (p.is_list ? (void)p.lists.reserve(el.count) : p.values.reserve(el.count));
     for (std::size_t i = 0; i < el.count; ++i)
       for (std::size_t k = 0; k < el.properties.size(); ++k) {
@@ -177,11 +228,13 @@ PlyData parse_ply(std::string_view bytes, const std::string& where) {
           continue;
         }
         const double count = cur.read(l.count_type);
-        if (!(count >= 0) || count > 1e6 || count > double(cur.remaining())) cur.fail("bad list length in element '" + el.name + "'");
+        if (!(count >= 0) || count > 1e6 || count > double(cur.remaining()))
+          cur.fail("bad list length in element '" + el.name + "'");
         std::vector<std::uint32_t> list(static_cast<std::size_t>(count));
         for (auto& v : list) {
           const double x = cur.read(l.type);
-          if (!(x >= 0) || x > double(std::numeric_limits<std::uint32_t>::max())) cur.fail("bad index in a list of element '" + el.name + "'");
+          if (!(x >= 0) || x > double(std::numeric_limits<std::uint32_t>::max()))
+            cur.fail("bad index in a list of element '" + el.name + "'");
           v = std::uint32_t(x);
         }
         p.lists.push_back(std::move(list));

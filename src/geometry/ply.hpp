@@ -15,8 +15,8 @@ namespace bakesim {
 struct PlyProperty {
   std::string name;
   bool is_list = false;
-  std::vector<double> values;                      // scalar: one per element item
-  std::vector<std::vector<std::uint32_t>> lists;   // list: one per element item
+  std::vector<double> values;                     // scalar: one per element item
+  std::vector<std::vector<std::uint32_t>> lists;  // list: one per element item
 };
 
 struct PlyElement {

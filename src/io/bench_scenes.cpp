@@ -34,10 +34,12 @@ std::string mpm_cube_scene_json(long particles, const std::string& model) {
   if (model == "elastic")
     material = R"("density": 1000, "youngs_modulus": 1e5, "poisson_ratio": 0.3)";
   else if (model == "viscoplastic")
-    material = R"("density": 1000, "youngs_modulus": 1e5, "poisson_ratio": 0.3, "plasticity": {"model": "von_mises", "yield_stress": 200, "viscosity": 10})";
+    material =
+        R"("density": 1000, "youngs_modulus": 1e5, "poisson_ratio": 0.3, "plasticity": {"model": "von_mises", "yield_stress": 200, "viscosity": 10})";
   else if (model == "full")
     // The thermomechanical dough of the bread scenes: heat, water, gas, temperature-dependent Cam-clay.
-    material = R"("density": 500, "youngs_modulus": 1e5, "poisson_ratio": 0.3, "specific_heat": 2800, "conductivity": 0.4,
+    material =
+        R"("density": 500, "youngs_modulus": 1e5, "poisson_ratio": 0.3, "specific_heat": 2800, "conductivity": 0.4,
       "plasticity": {"model": "cam_clay", "initial_porosity": 0.2, "set_temperature": 90,
                      "yield_stress": {"curve": "piecewise_linear", "points": [[5, 900], [25, 600], [40, 300], [90, 4000]]},
                      "viscosity": {"curve": "piecewise_linear", "points": [[5, 5000], [25, 2000], [40, 1000]]}},
@@ -45,11 +47,13 @@ std::string mpm_cube_scene_json(long particles, const std::string& model) {
       "leavening": {"rate": 2e-6})";
   else
     throw InputError("bench --model", "unknown MPM benchmark model '" + model + "' (elastic, viscoplastic, full)");
-  const std::string environment = model == "full"
-      ? R"("environment": {"air_temperature": 200, "heat_transfer_coefficient": 25, "bake_time_scale": 600},)"
-      : "";
+  const std::string environment =
+      model == "full"
+          ? R"("environment": {"air_temperature": 200, "heat_transfer_coefficient": 25, "bake_time_scale": 600},)"
+          : "";
   // The cube moves down at 1 m/s onto the floor: the timed steps squash it.
-  return fmt::format(R"({{
+  return fmt::format(
+      R"({{
   "name": "mpm-cube-bench",
   "solver": {{"type": "mpm", "mpm": {{"cell_size": {cell}, "particles_per_cell": 8}}}},
   "time": {{"end": 1.0, "fps": 1}},{environment}
@@ -59,8 +63,8 @@ std::string mpm_cube_scene_json(long particles, const std::string& model) {
               "shape": {{"type": "box", "min": [-0.1, 0.03, -0.1], "max": [0.1, 0.23, 0.1]}}}}],
   "colliders": [{{"name": "floor", "shape": {{"type": "plane", "point": [0, 0.03, 0], "normal": [0, 1, 0]}}, "contact": "separate", "friction": 0.3{floor_heat}}}]
 }})",
-                     fmt::arg("cell", cell), fmt::arg("material", material), fmt::arg("environment", environment),
-                     fmt::arg("floor_heat", model == "full" ? R"(, "temperature": 200, "heat_transfer_coefficient": 100)" : ""));
+      fmt::arg("cell", cell), fmt::arg("material", material), fmt::arg("environment", environment),
+      fmt::arg("floor_heat", model == "full" ? R"(, "temperature": 200, "heat_transfer_coefficient": 100)" : ""));
 }
 
 }  // namespace bakesim

@@ -131,10 +131,12 @@ Checkpoint decode_checkpoint(const std::string& b, const std::string& where) {
   Reader head(b, kMagicSize, where);
   const auto version = head.get<std::uint32_t>();
   if (version != kCheckpointVersion)
-    throw InputError(where, fmt::format("checkpoint format version {} (this bakesim reads version {})", version, kCheckpointVersion));
+    throw InputError(where, fmt::format("checkpoint format version {} (this bakesim reads version {})", version,
+                                        kCheckpointVersion));
   const auto size = head.get<std::uint64_t>();
   const auto sum = head.get<std::uint64_t>();
-  if (size != b.size() - kHeaderSize) head.fail(fmt::format("{} payload bytes, the header says {}", b.size() - kHeaderSize, size));
+  if (size != b.size() - kHeaderSize)
+    head.fail(fmt::format("{} payload bytes, the header says {}", b.size() - kHeaderSize, size));
   if (fnv1a(b.data() + kHeaderSize, size) != sum) head.fail("checksum mismatch");
   Reader r(b, kHeaderSize, where);
   Checkpoint c;
@@ -157,10 +159,14 @@ Checkpoint decode_checkpoint(const std::string& b, const std::string& where) {
   for (std::uint64_t k = 0; k < attributes; ++k) {
     const auto kind = r.get<std::uint8_t>();
     const std::string name = r.string();
-    if (kind == 0) r.array(c.particles.add_scalar(name, ""), n);
-    else if (kind == 1) r.array(c.particles.add_vector(name, ""), n);
-    else if (kind == 2) r.array(c.particles.add_int(name), n);
-    else r.fail("unknown attribute kind");
+    if (kind == 0)
+      r.array(c.particles.add_scalar(name, ""), n);
+    else if (kind == 1)
+      r.array(c.particles.add_vector(name, ""), n);
+    else if (kind == 2)
+      r.array(c.particles.add_int(name), n);
+    else
+      r.fail("unknown attribute kind");
   }
   r.array(c.follow_ids);
   if (!r.at_end()) r.fail("bytes after the end of the data");
@@ -180,10 +186,13 @@ Checkpoint capture_checkpoint(const Solver& solver) {
 }
 
 void restore_checkpoint(Solver& solver, const Checkpoint& c, const std::string& where) {
-  if (c.solver != solver.name()) throw InputError(where, fmt::format("checkpoint of a {} run, the scene runs {}", c.solver, solver.name()));
+  if (c.solver != solver.name())
+    throw InputError(where, fmt::format("checkpoint of a {} run, the scene runs {}", c.solver, solver.name()));
   ParticleSet& ps = solver.particles_for_restore();
   // Every attribute the solver has must be in the checkpoint, with the same kind.
-  auto missing = [&](const std::string& name) { return InputError(where, "checkpoint lacks the particle attribute '" + name + "'"); };
+  auto missing = [&](const std::string& name) {
+    return InputError(where, "checkpoint lacks the particle attribute '" + name + "'");
+  };
   for (const auto& a : ps.scalars())
     if (!c.particles.has(a.info.name)) throw missing(a.info.name);
   for (const auto& a : ps.vectors())
@@ -219,7 +228,8 @@ std::vector<fs::path> list_checkpoints(const fs::path& run_dir) {
   if (!fs::is_directory(dir, ec)) return out;
   for (const auto& e : fs::directory_iterator(dir, ec))
     if (e.path().extension() == ".ckpt") out.push_back(e.path());
-  std::sort(out.begin(), out.end(), [](const fs::path& a, const fs::path& b) { return a.filename().string() > b.filename().string(); });
+  std::sort(out.begin(), out.end(),
+            [](const fs::path& a, const fs::path& b) { return a.filename().string() > b.filename().string(); });
   return out;
 }
 

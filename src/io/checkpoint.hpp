@@ -48,7 +48,8 @@ void restore_checkpoint(Solver& solver, const Checkpoint& checkpoint, const std:
 
 // Writes RUN_DIR/checkpoints/NNNNN.ckpt (NNNNN = the frame) atomically and
 // removes all but the newest `keep`.
-std::filesystem::path write_checkpoint(const std::filesystem::path& run_dir, const Checkpoint& checkpoint, int keep = 2);
+std::filesystem::path write_checkpoint(const std::filesystem::path& run_dir, const Checkpoint& checkpoint,
+                                       int keep = 2);
 // RUN_DIR/checkpoints/NNNNN.ckpt, newest first.
 std::vector<std::filesystem::path> list_checkpoints(const std::filesystem::path& run_dir);
 

@@ -39,7 +39,8 @@ fs::path temporary_for(const fs::path& path) {
 
 bool is_temporary(const std::string& name) {
   const std::size_t mark = name.rfind(kTemporaryMark);
-  if (name.empty() || name[0] != '.' || mark == std::string::npos || mark + kTemporaryMark.size() == name.size()) return false;
+  if (name.empty() || name[0] != '.' || mark == std::string::npos || mark + kTemporaryMark.size() == name.size())
+    return false;
   for (std::size_t i = mark + kTemporaryMark.size(); i < name.size(); ++i)
     if (name[i] < '0' || name[i] > '9') return false;
   return true;
@@ -49,7 +50,8 @@ bool is_temporary(const std::string& name) {
 int remove_atomic_temporaries(const fs::path& dir) {
   std::error_code ec;
   std::vector<fs::path> found;
-  for (auto it = fs::recursive_directory_iterator(dir, ec); !ec && it != fs::recursive_directory_iterator(); it.increment(ec))
+  for (auto it = fs::recursive_directory_iterator(dir, ec); !ec && it != fs::recursive_directory_iterator();
+       it.increment(ec))
     if (it->is_regular_file(ec) && is_temporary(it->path().filename().string())) found.push_back(it->path());
   int removed = 0;
   for (const auto& p : found) removed += fs::remove(p, ec) ? 1 : 0;

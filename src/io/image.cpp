@@ -9,7 +9,8 @@
 
 namespace bakesim {
 
-Image::Image(int w, int h, std::array<std::uint8_t, 3> fill) : width(w), height(h), rgb(std::size_t(w) * std::size_t(h) * 3) {
+Image::Image(int w, int h, std::array<std::uint8_t, 3> fill)
+    : width(w), height(h), rgb(std::size_t(w) * std::size_t(h) * 3) {
   for (std::size_t i = 0; i < rgb.size(); i += 3) rgb[i] = fill[0], rgb[i + 1] = fill[1], rgb[i + 2] = fill[2];
 }
 
@@ -31,7 +32,9 @@ void Image::paste(const Image& o, int x0, int y0) {
 std::string encode_png(const Image& image) {
   if (image.width <= 0 || image.height <= 0) throw IoError("cannot encode an empty image as PNG");
   std::string out;
-  auto sink = [](void* context, void* data, int size) { static_cast<std::string*>(context)->append(static_cast<const char*>(data), std::size_t(size)); };
+  auto sink = [](void* context, void* data, int size) {
+    static_cast<std::string*>(context)->append(static_cast<const char*>(data), std::size_t(size));
+  };
   if (!stbi_write_png_to_func(sink, &out, image.width, image.height, 3, image.rgb.data(), image.width * 3))
     throw IoError("PNG encoding failed");
   return out;

@@ -14,7 +14,9 @@ struct Image {
   Image() = default;
   Image(int w, int h, std::array<std::uint8_t, 3> fill = {255, 255, 255});
   std::uint8_t* at(int x, int y) { return rgb.data() + 3 * (std::size_t(y) * std::size_t(width) + std::size_t(x)); }
-  const std::uint8_t* at(int x, int y) const { return rgb.data() + 3 * (std::size_t(y) * std::size_t(width) + std::size_t(x)); }
+  const std::uint8_t* at(int x, int y) const {
+    return rgb.data() + 3 * (std::size_t(y) * std::size_t(width) + std::size_t(x));
+  }
   void set(int x, int y, std::array<std::uint8_t, 3> c) {
     if (x < 0 || y < 0 || x >= width || y >= height) return;
     std::uint8_t* p = at(x, y);

@@ -63,10 +63,14 @@ std::string encode_mesh_obj(const surface::SurfaceMesh& m, const std::string& mt
     out += 'f';
     for (auto v : t) {
       const std::uint32_t k = v + 1;
-      if (uv && normals) out += fmt::format(" {}/{}/{}", k, k, k);
-      else if (uv) out += fmt::format(" {}/{}", k, k);
-      else if (normals) out += fmt::format(" {}//{}", k, k);
-      else out += fmt::format(" {}", k);
+      if (uv && normals)
+        out += fmt::format(" {}/{}/{}", k, k, k);
+      else if (uv)
+        out += fmt::format(" {}/{}", k, k);
+      else if (normals)
+        out += fmt::format(" {}//{}", k, k);
+      else
+        out += fmt::format(" {}", k);
     }
     out += '\n';
   }
@@ -74,8 +78,9 @@ std::string encode_mesh_obj(const surface::SurfaceMesh& m, const std::string& mt
 }
 
 std::string encode_mtl(const std::string& material, const std::string& texture_file) {
-  return fmt::format("# bakesim surface material\nnewmtl {}\nKa 0 0 0\nKd 1 1 1\nKs 0.05 0.05 0.05\nNs 20\nd 1\nillum 2\nmap_Kd {}\n",
-                     material, texture_file);
+  return fmt::format(
+      "# bakesim surface material\nnewmtl {}\nKa 0 0 0\nKd 1 1 1\nKs 0.05 0.05 0.05\nNs 20\nd 1\nillum 2\nmap_Kd {}\n",
+      material, texture_file);
 }
 
 Image gradient_texture(surface::Palette palette, int size) {

@@ -65,25 +65,57 @@ std::string encode_vtu(const ParticleSet& ps) {
   xml += "      <PointData>\n";
   for (const auto& a : ps.vectors())
     if (a.info.exported && a.info.name != "position")
-      block(fmt::format("type=\"Float32\" Name=\"{}\" NumberOfComponents=\"3\"", a.info.name),
-            [&] { for (std::size_t i = 0; i < n; ++i) for (int k = 0; k < 3; ++k) put(data, float(a.data[i][k])); },
-            n * 12);
+      block(
+          fmt::format("type=\"Float32\" Name=\"{}\" NumberOfComponents=\"3\"", a.info.name),
+          [&] {
+            for (std::size_t i = 0; i < n; ++i)
+              for (int k = 0; k < 3; ++k) put(data, float(a.data[i][k]));
+          },
+          n * 12);
   for (const auto& a : ps.scalars())
     if (a.info.exported)
-      block(fmt::format("type=\"Float32\" Name=\"{}\"", a.info.name),
-            [&] { for (std::size_t i = 0; i < n; ++i) put(data, float(a.data[i])); }, n * 4);
+      block(
+          fmt::format("type=\"Float32\" Name=\"{}\"", a.info.name),
+          [&] {
+            for (std::size_t i = 0; i < n; ++i) put(data, float(a.data[i]));
+          },
+          n * 4);
   for (const auto& a : ps.integers())
     if (a.info.exported)
-      block(fmt::format("type=\"Int32\" Name=\"{}\"", a.info.name),
-            [&] { for (std::size_t i = 0; i < n; ++i) put(data, std::int32_t(a.data[i])); }, n * 4);
+      block(
+          fmt::format("type=\"Int32\" Name=\"{}\"", a.info.name),
+          [&] {
+            for (std::size_t i = 0; i < n; ++i) put(data, std::int32_t(a.data[i]));
+          },
+          n * 4);
   xml += "      </PointData>\n      <Points>\n";
   const auto& pos = ps.vector("position");
-  block("type=\"Float32\" Name=\"Points\" NumberOfComponents=\"3\"",
-        [&] { for (std::size_t i = 0; i < n; ++i) for (int k = 0; k < 3; ++k) put(data, float(pos[i][k])); }, n * 12);
+  block(
+      "type=\"Float32\" Name=\"Points\" NumberOfComponents=\"3\"",
+      [&] {
+        for (std::size_t i = 0; i < n; ++i)
+          for (int k = 0; k < 3; ++k) put(data, float(pos[i][k]));
+      },
+      n * 12);
   xml += "      </Points>\n      <Cells>\n";
-  block("type=\"Int64\" Name=\"connectivity\"", [&] { for (std::size_t i = 0; i < n; ++i) put(data, std::int64_t(i)); }, n * 8);
-  block("type=\"Int64\" Name=\"offsets\"", [&] { for (std::size_t i = 0; i < n; ++i) put(data, std::int64_t(i + 1)); }, n * 8);
-  block("type=\"UInt8\" Name=\"types\"", [&] { for (std::size_t i = 0; i < n; ++i) put(data, std::uint8_t(1)); }, n);
+  block(
+      "type=\"Int64\" Name=\"connectivity\"",
+      [&] {
+        for (std::size_t i = 0; i < n; ++i) put(data, std::int64_t(i));
+      },
+      n * 8);
+  block(
+      "type=\"Int64\" Name=\"offsets\"",
+      [&] {
+        for (std::size_t i = 0; i < n; ++i) put(data, std::int64_t(i + 1));
+      },
+      n * 8);
+  block(
+      "type=\"UInt8\" Name=\"types\"",
+      [&] {
+        for (std::size_t i = 0; i < n; ++i) put(data, std::uint8_t(1));
+      },
+      n);
   xml += "      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n";
   xml += "  <AppendedData encoding=\"raw\">\n   _";
   std::string out = xml;
@@ -93,7 +125,9 @@ std::string encode_vtu(const ParticleSet& ps) {
 }
 
 std::string encode_pvd(const std::vector<PvdEntry>& entries) {
-  std::string out = "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n  <Collection>\n";
+  std::string out =
+      "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n  "
+      "<Collection>\n";
   for (const auto& e : entries)
     out += fmt::format("    <DataSet timestep=\"{:.9g}\" group=\"\" part=\"0\" file=\"{}\"/>\n", e.time, e.file);
   out += "  </Collection>\n</VTKFile>\n";

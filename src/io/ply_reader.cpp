@@ -61,9 +61,11 @@ surface::SurfaceMesh mesh_from_ply(const PlyData& ply, const std::string& where)
   const PlyElement* f = ply.find("face");
   if (!v || !f) throw InputError(where, "a mesh needs vertex and face elements");
   const PlyProperty *x = v->find("x"), *y = v->find("y"), *z = v->find("z");
-  if (!x || !y || !z || x->is_list || y->is_list || z->is_list) throw InputError(where, "vertex element has no x, y, z");
+  if (!x || !y || !z || x->is_list || y->is_list || z->is_list)
+    throw InputError(where, "vertex element has no x, y, z");
   surface::SurfaceMesh m;
-  for (std::size_t i = 0; i < v->count; ++i) m.vertices.emplace_back(float_of(x->values[i]), float_of(y->values[i]), float_of(z->values[i]));
+  for (std::size_t i = 0; i < v->count; ++i)
+    m.vertices.emplace_back(float_of(x->values[i]), float_of(y->values[i]), float_of(z->values[i]));
   const PlyProperty *r = v->find("red"), *g = v->find("green"), *b = v->find("blue"), *s = v->find("s");
   if (r && g && b && !r->is_list && !g->is_list && !b->is_list)
     for (std::size_t i = 0; i < v->count; ++i)
@@ -80,7 +82,8 @@ surface::SurfaceMesh mesh_from_ply(const PlyData& ply, const std::string& where)
   }
   const PlyProperty *nx = v->find("nx"), *ny = v->find("ny"), *nz = v->find("nz");
   if (nx && ny && nz && !nx->is_list && !ny->is_list && !nz->is_list) {
-    for (std::size_t i = 0; i < v->count; ++i) m.normals.emplace_back(float_of(nx->values[i]), float_of(ny->values[i]), float_of(nz->values[i]));
+    for (std::size_t i = 0; i < v->count; ++i)
+      m.normals.emplace_back(float_of(nx->values[i]), float_of(ny->values[i]), float_of(nz->values[i]));
   } else {
     surface::compute_normals(m);
   }

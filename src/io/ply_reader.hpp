@@ -8,8 +8,6 @@
 
 namespace bakesim {
 
-
-
 // A particle frame written by encode_ply back into a particle set: x/y/z as
 // "position", name_x/_y/_z triples as vectors, int properties as integers,
 // the rest as scalars.

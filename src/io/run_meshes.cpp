@@ -26,7 +26,8 @@ RunGeometry run_geometry(const json& scene) {
   } else {
     g.spacing = scene.at("solver").at("sph").at("spacing").get<double>();
   }
-  for (const auto& [name, material] : scene.at("materials").items()) g.rest_density.push_back(material.at("density").get<double>());
+  for (const auto& [name, material] : scene.at("materials").items())
+    g.rest_density.push_back(material.at("density").get<double>());
   return g;
 }
 
@@ -61,10 +62,12 @@ std::vector<Real> particle_values(const ParticleSet& ps, const std::string& q) {
   }
   std::string known;
   for (const auto& a : ps.scalars()) known += (known.empty() ? "" : ", ") + a.info.name;
-  throw InputError("colour", fmt::format("the frames have no quantity '{}' (they have: {}{})", q, known, ps.has("velocity") ? ", speed" : ""));
+  throw InputError("colour", fmt::format("the frames have no quantity '{}' (they have: {}{})", q, known,
+                                         ps.has("velocity") ? ", speed" : ""));
 }
 
-std::pair<Real, Real> colour_range(const ParticleSet& ps, const std::string& q, const std::optional<std::pair<Real, Real>>& given) {
+std::pair<Real, Real> colour_range(const ParticleSet& ps, const std::string& q,
+                                   const std::optional<std::pair<Real, Real>>& given) {
   if (given) return *given;
   if (q == "browning" || q == "saturation") return {0.0, 1.0};
   if (q == "temperature") return {20.0, 220.0};
@@ -74,7 +77,9 @@ std::pair<Real, Real> colour_range(const ParticleSet& ps, const std::string& q, 
   return {*lo, *hi > *lo ? *hi : *lo + 1.0};
 }
 
-surface::Palette colour_palette(const std::string& q) { return q == "browning" ? surface::Palette::baking : surface::Palette::heat; }
+surface::Palette colour_palette(const std::string& q) {
+  return q == "browning" ? surface::Palette::baking : surface::Palette::heat;
+}
 
 surface::SurfaceParticles surface_particles(const ParticleSet& ps, const RunGeometry& run) {
   surface::SurfaceParticles s;
@@ -122,18 +127,19 @@ void write_frame_mesh(const fs::path& dir, int frame, const surface::SurfaceMesh
   if (settings.obj) {
     const std::string palette = colour_palette(settings.colour) == surface::Palette::baking ? "baking" : "heat";
     const std::string texture = "gradient_" + palette + ".png", material = "bakesim_" + palette;
-    if (!fs::exists(dir / texture)) write_file_atomic(dir / texture, encode_png(gradient_texture(colour_palette(settings.colour))));
+    if (!fs::exists(dir / texture))
+      write_file_atomic(dir / texture, encode_png(gradient_texture(colour_palette(settings.colour))));
     write_file_atomic(dir / (material + ".mtl"), encode_mtl(material, texture));
     write_file_atomic(dir / (stem + ".obj"), encode_mesh_obj(mesh, material + ".mtl", material));
   }
 }
 
-
 RunDirectory open_run(const fs::path& dir) {
   RunDirectory r;
   r.dir = dir;
   const fs::path scene = dir / "scene.json";
-  if (!fs::is_regular_file(scene)) throw InputError(dir.string(), "not a run directory (no scene.json; make one with `bakesim run SCENE --out DIR`)");
+  if (!fs::is_regular_file(scene))
+    throw InputError(dir.string(), "not a run directory (no scene.json; make one with `bakesim run SCENE --out DIR`)");
   try {
     r.scene = json::parse(read_file(scene));
   } catch (const json::exception& e) {

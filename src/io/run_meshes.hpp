@@ -19,15 +19,15 @@ namespace bakesim {
 
 // What meshing needs to know about a run, read from its resolved scene.
 struct RunGeometry {
-  std::string solver;               // "sph" or "mpm"
-  Real spacing = 0.01;              // initial particle spacing, m
-  std::vector<Real> rest_density;   // SPH: by material id (materials in name order)
+  std::string solver;              // "sph" or "mpm"
+  Real spacing = 0.01;             // initial particle spacing, m
+  std::vector<Real> rest_density;  // SPH: by material id (materials in name order)
 };
 RunGeometry run_geometry(const nlohmann::json& resolved_scene);
 
 struct MeshSettings {
   surface::SurfaceOptions surface;
-  std::string colour = "browning";  // particle quantity the surface is coloured by
+  std::string colour = "browning";             // particle quantity the surface is coloured by
   std::optional<std::pair<Real, Real>> range;  // value range mapped to [0, 1]; default per quantity
   bool ply = true, obj = true;
 };
@@ -51,8 +51,8 @@ void write_frame_mesh(const std::filesystem::path& meshes_dir, int frame, const 
 // A finished (or running) run directory.
 struct RunDirectory {
   std::filesystem::path dir;
-  nlohmann::json scene;                          // scene.json, resolved
-  std::map<int, std::filesystem::path> frames;   // frame number → frames/NNNNN.ply
+  nlohmann::json scene;                         // scene.json, resolved
+  std::map<int, std::filesystem::path> frames;  // frame number → frames/NNNNN.ply
 };
 RunDirectory open_run(const std::filesystem::path& dir);  // InputError when it is not a run directory
 ParticleSet read_particle_frame(const std::filesystem::path& ply);

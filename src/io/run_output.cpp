@@ -87,8 +87,8 @@ std::string RunOutput::stats_header() const {
 void RunOutput::on_frame(const FrameInfo& info, const Solver& solver) {
   const ParticleSet& ps = solver.particles();
   const std::string stem = fmt::format("{:05d}", info.frame);
-  const bool write_particles = info.frame % scene_.output.every_frames == 0 || info.frame == 0 ||
-                               info.time >= scene_.end_time - 1e-12;
+  const bool write_particles =
+      info.frame % scene_.output.every_frames == 0 || info.frame == 0 || info.time >= scene_.end_time - 1e-12;
   if (write_particles) {
     if (scene_.output.ply) write_file_atomic(dir_ / "frames" / (stem + ".ply"), encode_ply(ps));
     if (scene_.output.vtu) {
@@ -108,12 +108,12 @@ void RunOutput::on_frame(const FrameInfo& info, const Solver& solver) {
   }
   const FrameStats s = compute_frame_stats(ps);
   const Real bake_time = info.time * scene_.bake_time_scale;
-  std::string row = fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}", num(info.time), info.steps,
-                                num(info.last_dt), s.particles, num(s.kinetic_energy), num(s.max_speed),
-                                num(s.bounds.min.x()), num(s.bounds.min.y()), num(s.bounds.min.z()),
-                                num(s.bounds.max.x()), num(s.bounds.max.y()), num(s.bounds.max.z()),
-                                num(s.mean_temperature), num(s.min_temperature), num(s.max_temperature),
-                                num(scene_.air_temperature(bake_time)), num(clock_.seconds()), num(bake_time));
+  std::string row =
+      fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}", num(info.time), info.steps,
+                  num(info.last_dt), s.particles, num(s.kinetic_energy), num(s.max_speed), num(s.bounds.min.x()),
+                  num(s.bounds.min.y()), num(s.bounds.min.z()), num(s.bounds.max.x()), num(s.bounds.max.y()),
+                  num(s.bounds.max.z()), num(s.mean_temperature), num(s.min_temperature), num(s.max_temperature),
+                  num(scene_.air_temperature(bake_time)), num(clock_.seconds()), num(bake_time));
   const std::vector<BodyStats> bodies = compute_body_stats(ps, scene_.sph.bodies.size(), up_direction(scene_));
   for (std::size_t b = 0; b < bodies.size(); ++b)
     if (!scene_.sph.bodies[b].hold_temperature) row += "," + num(bodies[b].volume) + "," + num(bodies[b].height());
@@ -163,7 +163,9 @@ void RunOutput::resume_after(int frame, std::vector<std::int32_t> follow_ids) {
     kept += line + "\n";
     ++rows;
   }
-  if (rows <= frame) throw InputError((dir_ / "stats.csv").string(), fmt::format("has {} frames, the checkpoint is at frame {}", rows, frame));
+  if (rows <= frame)
+    throw InputError((dir_ / "stats.csv").string(),
+                     fmt::format("has {} frames, the checkpoint is at frame {}", rows, frame));
   stats_ = kept;
   extra_header_written_ = true;
   // particles.pvd: entries of frames up to `frame`, read back from the file.
@@ -186,7 +188,8 @@ void RunOutput::resume_after(int frame, std::vector<std::int32_t> follow_ids) {
     std::vector<fs::path> stale;
     for (const auto& e : fs::directory_iterator(dir_ / sub, ec)) {
       const std::string stem = e.path().stem().string();
-      if (stem.size() == 5 && std::all_of(stem.begin(), stem.end(), [](char c) { return c >= '0' && c <= '9'; }) && std::stoi(stem) > frame)
+      if (stem.size() == 5 && std::all_of(stem.begin(), stem.end(), [](char c) { return c >= '0' && c <= '9'; }) &&
+          std::stoi(stem) > frame)
         stale.push_back(e.path());
     }
     for (const auto& p : stale) fs::remove(p, ec);

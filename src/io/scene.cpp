@@ -33,7 +33,8 @@ struct Ctx {
 void require_box(const Ctx& c, const std::string& path, const Vec3& lo, const Vec3& hi) {
   for (int k = 0; k < 3; ++k)
     if (!(lo[k] < hi[k]))
-      c.fail(path, fmt::format("min must be below max on every axis (axis {}: min {} >= max {})", "xyz"[k], lo[k], hi[k]));
+      c.fail(path,
+             fmt::format("min must be below max on every axis (axis {}: min {} >= max {})", "xyz"[k], lo[k], hi[k]));
 }
 
 Vec3 unit_vector(const Ctx& c, const std::string& path, const json& j) {
@@ -101,8 +102,8 @@ ColliderGeometry build_collider_geometry(const Ctx& c, const std::string& path, 
   if (type == "cup") {
     const Real radius = s["radius"].get<double>(), tube = s["tube_radius"].get<double>();
     if (tube >= radius) c.fail(path + ".tube_radius", "must be smaller than the radius");
-    return CupCollider{vec3(s["base"]), unit_vector(c, path + ".axis", s["axis"]), radius, s["height"].get<double>(),
-                       s["wall_thickness"].get<double>(), tube};
+    return CupCollider{vec3(s["base"]),           unit_vector(c, path + ".axis", s["axis"]), radius,
+                       s["height"].get<double>(), s["wall_thickness"].get<double>(),         tube};
   }
   return MeshCollider::build(load_transformed_mesh(c, path, s), cell);
 }
@@ -162,7 +163,8 @@ PiecewiseLinear build_schedule(const Ctx& c, const std::string& path, const json
 }
 
 BrowningKinetics build_browning(const json& b) {
-  return {b["max_colour_difference"].get<double>(), b["rate_constant"].get<double>(), b["activation_energy"].get<double>()};
+  return {b["max_colour_difference"].get<double>(), b["rate_constant"].get<double>(),
+          b["activation_energy"].get<double>()};
 }
 
 std::pair<int, int> line_column(const std::string& text, std::size_t byte) {
@@ -186,7 +188,8 @@ json dough_preset() {
               {"conductivity", 0.4},
               {"viscosity", {{"curve", "piecewise_linear"}, {"points", {{26, 0.1}, {45, 1.0}, {120, 5e3}}}}},
               {"elasticity", {{"curve", "piecewise_linear"}, {"points", {{26, 1.0}, {45, 10.0}, {120, 5e4}}}}},
-              {"relaxation_time", {{"curve", "zhang_arctan"}, {"scale", 450.0}, {"centre", 65.0}, {"width", 2.0}, {"offset", 2.0}}},
+              {"relaxation_time",
+               {{"curve", "zhang_arctan"}, {"scale", 450.0}, {"centre", 65.0}, {"width", 2.0}, {"offset", 2.0}}},
               {"xsph", {{"curve", "piecewise_linear"}, {"points", {{26, 0.05}, {120, 5.0}}}}}};
 }
 
@@ -224,8 +227,10 @@ mpm::Setup build_mpm_setup(const Ctx& c, const json& doc, const sph::Setup& sph)
     mat.name = it.key();
     mat.density = m["density"].get<double>();
     mat.lame = mpm::Lame::from_young(m["youngs_modulus"].get<double>(), m["poisson_ratio"].get<double>());
-    if (m["elastic_model"].get<std::string>() == "fixed_corotated") mat.elastic = mpm::FixedCorotated{mat.lame};
-    else mat.elastic = mpm::Hencky{mat.lame};
+    if (m["elastic_model"].get<std::string>() == "fixed_corotated")
+      mat.elastic = mpm::FixedCorotated{mat.lame};
+    else
+      mat.elastic = mpm::Hencky{mat.lame};
     const json& pj = m["plasticity"];
     const std::string model = pj["model"].get<std::string>();
     if (model != "none" && std::holds_alternative<mpm::FixedCorotated>(mat.elastic))
@@ -239,15 +244,18 @@ mpm::Setup build_mpm_setup(const Ctx& c, const json& doc, const sph::Setup& sph)
       c.fail(mpath + ".plasticity." + key, "MPM plasticity takes a number or a piecewise_linear curve");
     };
     const PiecewiseLinear yield = plastic_curve("yield_stress"), viscosity = plastic_curve("viscosity");
-    const bool curved = !pj["yield_stress"].is_number() || !pj["viscosity"].is_number() || !pj["set_temperature"].is_null();
+    const bool curved =
+        !pj["yield_stress"].is_number() || !pj["viscosity"].is_number() || !pj["set_temperature"].is_null();
     if (model != "none" && curved) {
       SettingCurves sc{yield, viscosity};
       if (!pj["set_temperature"].is_null()) sc.set_temperature = pj["set_temperature"].get<double>();
       sc.set_softening = pj["set_softening"].get<double>();
       sc.brittle_water_loss = pj["brittle_water_loss"].get<double>();
-      if (sc.set_softening > 0 && (model != "cam_clay" || pj["set_temperature"].is_null() || !(m["water"]["saturation"].get<double>() > 0)))
+      if (sc.set_softening > 0 &&
+          (model != "cam_clay" || pj["set_temperature"].is_null() || !(m["water"]["saturation"].get<double>() > 0)))
         c.fail(mpath + ".plasticity.set_softening",
-               "softens the set material as it dries: needs model \"cam_clay\", a set_temperature and water.saturation > 0");
+               "softens the set material as it dries: needs model \"cam_clay\", a set_temperature and water.saturation "
+               "> 0");
       mat.setting = sc;
     }
     const Real yield0 = yield(20.0), viscosity0 = viscosity(20.0);
@@ -269,7 +277,8 @@ mpm::Setup build_mpm_setup(const Ctx& c, const json& doc, const sph::Setup& sph)
     if (!lj["amount"].is_null()) mat.gas.amount = lj["amount"].get<double>();
     mat.gas.width = lj["width"].get<double>();
     if (mat.gas.active() && model != "cam_clay" && mat.initial_porosity <= 0)
-      c.fail(mpath + ".leavening", "the gas needs pores: give plasticity.initial_porosity > 0 (and cam_clay so the dough can expand)");
+      c.fail(mpath + ".leavening",
+             "the gas needs pores: give plasticity.initial_porosity > 0 (and cam_clay so the dough can expand)");
     setup.materials.push_back(mat);
   }
   for (std::size_t i = 0; i < sph.bodies.size(); ++i) {
@@ -292,18 +301,23 @@ mpm::Setup build_mpm_setup(const Ctx& c, const json& doc, const sph::Setup& sph)
     // A cup or container wall under two cells thick has grid nodes inside it
     // that are nearer its far face: their contact normal points the wrong way
     // and material sinks into the wall (the muffin cups did).
-    if (cj["shape"].contains("wall_thickness") && cj["shape"]["wall_thickness"].get<double>() < 2 * st.cell_size - 1e-12)
+    if (cj["shape"].contains("wall_thickness") &&
+        cj["shape"]["wall_thickness"].get<double>() < 2 * st.cell_size - 1e-12)
       c.fail(path + ".shape.wall_thickness",
-             fmt::format("{} m is thinner than two MPM cells ({} m): material would sink into the wall; make it at least {} m",
-                         cj["shape"]["wall_thickness"].get<double>(), st.cell_size, 2 * st.cell_size));
+             fmt::format(
+                 "{} m is thinner than two MPM cells ({} m): material would sink into the wall; make it at least {} m",
+                 cj["shape"]["wall_thickness"].get<double>(), st.cell_size, 2 * st.cell_size));
     // Meshes act through a signed distance grid at half the MPM cell size.
     if (const auto* mesh = std::get_if<MeshCollider>(&g.collider.geometry))
       g.collider.geometry = mesh->with_signed_distance(0.5 * st.cell_size, 3 * st.cell_size);
     if (cj.contains("motion")) g.motion = build_motion(c, path + ".motion", cj["motion"]);
     const std::string contact = cj["contact"].get<std::string>();
-    g.contact = contact == "sticky" ? mpm::Contact::sticky : contact == "slip" ? mpm::Contact::slip : mpm::Contact::separate;
+    g.contact = contact == "sticky" ? mpm::Contact::sticky
+                : contact == "slip" ? mpm::Contact::slip
+                                    : mpm::Contact::separate;
     g.friction = cj["friction"].get<double>();
-    if (!cj["temperature"].is_null()) g.collider.temperature = build_schedule(c, path + ".temperature", cj["temperature"]);
+    if (!cj["temperature"].is_null())
+      g.collider.temperature = build_schedule(c, path + ".temperature", cj["temperature"]);
     g.collider.heat_transfer_coefficient = cj["heat_transfer_coefficient"].get<double>();
     setup.colliders.push_back(std::move(g));
   }
@@ -318,9 +332,12 @@ mpm::Setup build_mpm_setup(const Ctx& c, const json& doc, const sph::Setup& sph)
   st.heat_tolerance = mj["heat_tolerance"].get<double>();
   st.heat_max_iterations = mj["heat_max_iterations"].get<int>();
   const std::string heat = mj["heat"].get<std::string>();
-  if (heat == "explicit") st.heat = mpm::HeatMethod::explicit_;
-  else if (heat == "implicit") st.heat = mpm::HeatMethod::implicit;
-  else if (heat == "off") st.heat = mpm::HeatMethod::off;
+  if (heat == "explicit")
+    st.heat = mpm::HeatMethod::explicit_;
+  else if (heat == "implicit")
+    st.heat = mpm::HeatMethod::implicit;
+  else if (heat == "off")
+    st.heat = mpm::HeatMethod::off;
   else {
     // auto: heat when anything thermal can happen.
     bool thermal = false;
@@ -336,7 +353,6 @@ mpm::Setup build_mpm_setup(const Ctx& c, const json& doc, const sph::Setup& sph)
 }
 
 }  // namespace
-
 
 Scene parse_scene(const std::string& text, const std::string& file, const std::string& base_dir) {
   json doc;
@@ -368,8 +384,9 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::s
   sc.description = doc["description"].get<std::string>();
   sc.solver_type = doc["solver"]["type"].get<std::string>();
   if (!doc["solver"].contains(sc.solver_type))
-    c.fail("solver", fmt::format("missing section '{0}' (required when solver.type is \"{0}\"; it needs at least '{1}')",
-                                 sc.solver_type, sc.solver_type == "sph" ? "spacing" : "cell_size"));
+    c.fail("solver",
+           fmt::format("missing section '{0}' (required when solver.type is \"{0}\"; it needs at least '{1}')",
+                       sc.solver_type, sc.solver_type == "sph" ? "spacing" : "cell_size"));
 
   if (doc["solver"]["min_dt"].get<double>() >= doc["solver"]["max_dt"].get<double>())
     c.fail("solver.min_dt", fmt::format("must be below solver.max_dt ({:g} s)", doc["solver"]["max_dt"].get<double>()));
@@ -422,9 +439,9 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::s
     const auto found = std::find(material_names.begin(), material_names.end(), mname);
     if (found == material_names.end()) {
       const std::string near = closest_match(mname, material_names);
-      c.fail(path + ".material", fmt::format("unknown material '{}'{}; defined materials: {}", mname,
-                                             near.empty() ? "" : "; did you mean '" + near + "'?",
-                                             fmt::join(material_names, ", ")));
+      c.fail(path + ".material",
+             fmt::format("unknown material '{}'{}; defined materials: {}", mname,
+                         near.empty() ? "" : "; did you mean '" + near + "'?", fmt::join(material_names, ", ")));
     }
     body.material = static_cast<int>(found - material_names.begin());
     body.shape = build_shape(c, path + ".shape", b["shape"]);
@@ -437,7 +454,8 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::s
     bs.distribution = parse_distribution(bj["distribution"].get<std::string>());
     bs.seed = bj["seed"].get<std::uint64_t>();
     bs.layers = bj["layers"].get<int>();
-    if (bj.contains("region")) bs.region = build_shape(c, path + ".bubbles.region", bj["region"]);
+    if (bj.contains("region"))
+      bs.region = build_shape(c, path + ".bubbles.region", bj["region"]);
     else if (bs.distribution == sph::BubbleDistribution::region && bs.fraction > 0)
       c.fail(path + ".bubbles", "distribution \"region\" needs a region shape");
     if (!bj["pressure_scale"].is_null()) bs.pressure_scale = bj["pressure_scale"].get<double>();
@@ -451,87 +469,88 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::s
   if (sc.solver_type == "mpm") {
     sc.mpm = build_mpm_setup(c, doc, setup);
   } else {
-  const json& sj = doc["solver"]["sph"];
-  sph::Settings& st = setup.settings;
-  st.spacing = sj["spacing"].get<double>();
-  st.smoothing_ratio = sj["smoothing_ratio"].get<double>();
-  st.search = sph::parse_neighbour_method(sj["neighbour_search"].get<std::string>());
-  st.clamp_negative_pressure = sj["negative_pressure"].get<std::string>() == "clamp";
-  st.wall_density_correction = sj["wall_correction"].get<bool>();
-  st.av_alpha = sj["artificial_viscosity"]["alpha"].get<double>();
-  st.av_beta = sj["artificial_viscosity"]["beta"].get<double>();
-  st.av_epsilon = sj["artificial_viscosity"]["epsilon"].get<double>();
-  st.surface_threshold = sj["surface_threshold"].get<double>();
-  st.heat_conduction = sj["heat_conduction"].get<bool>();
-  st.conduction_factor = sj["conduction_factor"].get<double>();
-  st.viscous_factor = sj["viscous_factor"].get<double>();
-  st.force_factor = sj["force_factor"].get<double>();
-  st.surface_method = sph::parse_surface_method(sj["surface"]["method"].get<std::string>());
-  st.surface_colour_threshold = sj["surface"]["colour_threshold"].get<double>();
-  st.surface_hull_threshold = sj["surface"]["hull_threshold"].get<double>();
-  st.surface_every = sj["surface"]["every_steps"].get<int>();
-  st.viscosity_solver = sph::parse_viscosity_solver(sj["viscosity_solver"].get<std::string>());
-  {
-    const json& aj = sj["adaptive_smoothing"];
-    st.adaptive.enabled = aj["enabled"].get<bool>();
-    st.adaptive.geometric_mean = aj["reference"].get<std::string>() == "geometric_mean";
-    st.adaptive.sensitivity = aj["sensitivity"].get<double>();
-    st.adaptive.scale = aj["scale"].get<double>();
-    st.adaptive.min_ratio = aj["range"][0].get<double>();
-    st.adaptive.max_ratio = aj["range"][1].get<double>();
-    if (st.adaptive.min_ratio > st.adaptive.max_ratio)
-      throw InputError("solver.sph.adaptive_smoothing.range", "the lower limit exceeds the upper one");
-  }
-  st.artificial_stress = sj["artificial_stress"]["epsilon"].get<double>();
-  st.artificial_stress_exponent = sj["artificial_stress"]["exponent"].get<double>();
-  st.implicit_tolerance = sj["implicit_viscosity"]["tolerance"].get<double>();
-  st.implicit_max_iterations = sj["implicit_viscosity"]["max_iterations"].get<int>();
-  st.cfl = doc["solver"]["cfl"].get<double>();
-  st.max_dt = doc["solver"]["max_dt"].get<double>();
+    const json& sj = doc["solver"]["sph"];
+    sph::Settings& st = setup.settings;
+    st.spacing = sj["spacing"].get<double>();
+    st.smoothing_ratio = sj["smoothing_ratio"].get<double>();
+    st.search = sph::parse_neighbour_method(sj["neighbour_search"].get<std::string>());
+    st.clamp_negative_pressure = sj["negative_pressure"].get<std::string>() == "clamp";
+    st.wall_density_correction = sj["wall_correction"].get<bool>();
+    st.av_alpha = sj["artificial_viscosity"]["alpha"].get<double>();
+    st.av_beta = sj["artificial_viscosity"]["beta"].get<double>();
+    st.av_epsilon = sj["artificial_viscosity"]["epsilon"].get<double>();
+    st.surface_threshold = sj["surface_threshold"].get<double>();
+    st.heat_conduction = sj["heat_conduction"].get<bool>();
+    st.conduction_factor = sj["conduction_factor"].get<double>();
+    st.viscous_factor = sj["viscous_factor"].get<double>();
+    st.force_factor = sj["force_factor"].get<double>();
+    st.surface_method = sph::parse_surface_method(sj["surface"]["method"].get<std::string>());
+    st.surface_colour_threshold = sj["surface"]["colour_threshold"].get<double>();
+    st.surface_hull_threshold = sj["surface"]["hull_threshold"].get<double>();
+    st.surface_every = sj["surface"]["every_steps"].get<int>();
+    st.viscosity_solver = sph::parse_viscosity_solver(sj["viscosity_solver"].get<std::string>());
+    {
+      const json& aj = sj["adaptive_smoothing"];
+      st.adaptive.enabled = aj["enabled"].get<bool>();
+      st.adaptive.geometric_mean = aj["reference"].get<std::string>() == "geometric_mean";
+      st.adaptive.sensitivity = aj["sensitivity"].get<double>();
+      st.adaptive.scale = aj["scale"].get<double>();
+      st.adaptive.min_ratio = aj["range"][0].get<double>();
+      st.adaptive.max_ratio = aj["range"][1].get<double>();
+      if (st.adaptive.min_ratio > st.adaptive.max_ratio)
+        throw InputError("solver.sph.adaptive_smoothing.range", "the lower limit exceeds the upper one");
+    }
+    st.artificial_stress = sj["artificial_stress"]["epsilon"].get<double>();
+    st.artificial_stress_exponent = sj["artificial_stress"]["exponent"].get<double>();
+    st.implicit_tolerance = sj["implicit_viscosity"]["tolerance"].get<double>();
+    st.implicit_max_iterations = sj["implicit_viscosity"]["max_iterations"].get<int>();
+    st.cfl = doc["solver"]["cfl"].get<double>();
+    st.max_dt = doc["solver"]["max_dt"].get<double>();
 
-  setup.gravity = vec3(doc["gravity"]);
-  setup.domain = {dmin, dmax};
-  setup.environment.air_temperature = sc.air_temperature;
-  setup.environment.heat_transfer_coefficient = sc.heat_transfer_coefficient;
-  setup.environment.bake_time_scale = sc.bake_time_scale;
-  setup.environment.browning = build_browning(doc["environment"]["browning"]);
-  setup.domain_friction = doc["domain"]["friction"].get<double>();
-  setup.domain_damping = doc["domain"]["damping"].get<double>();
+    setup.gravity = vec3(doc["gravity"]);
+    setup.domain = {dmin, dmax};
+    setup.environment.air_temperature = sc.air_temperature;
+    setup.environment.heat_transfer_coefficient = sc.heat_transfer_coefficient;
+    setup.environment.bake_time_scale = sc.bake_time_scale;
+    setup.environment.browning = build_browning(doc["environment"]["browning"]);
+    setup.domain_friction = doc["domain"]["friction"].get<double>();
+    setup.domain_damping = doc["domain"]["damping"].get<double>();
 
-  if (sj["speed_of_sound"].is_string()) {
-    // auto: ten times the fastest flow expected, so density varies ~1%.
-    const Real g = setup.gravity.norm();
-    const Real height = g > 0 ? std::abs((dmax - dmin).dot(setup.gravity / g)) : 0.0;
-    const Real v = std::max({std::sqrt(2.0 * g * height), max_initial_speed, 0.1});
-    st.speed_of_sound = 10.0 * v;
-    doc["solver"]["sph"]["speed_of_sound"] = st.speed_of_sound;
-  } else {
-    st.speed_of_sound = sj["speed_of_sound"].get<double>();
-  }
+    if (sj["speed_of_sound"].is_string()) {
+      // auto: ten times the fastest flow expected, so density varies ~1%.
+      const Real g = setup.gravity.norm();
+      const Real height = g > 0 ? std::abs((dmax - dmin).dot(setup.gravity / g)) : 0.0;
+      const Real v = std::max({std::sqrt(2.0 * g * height), max_initial_speed, 0.1});
+      st.speed_of_sound = 10.0 * v;
+      doc["solver"]["sph"]["speed_of_sound"] = st.speed_of_sound;
+    } else {
+      st.speed_of_sound = sj["speed_of_sound"].get<double>();
+    }
 
-  const Real h = st.spacing * st.smoothing_ratio;
-  for (std::size_t i = 0; i < doc["colliders"].size(); ++i) {
-    const json& cj = doc["colliders"][i];
-    const std::string path = fmt::format("colliders[{}]", i);
-    Collider col;
-    col.name = cj["name"].get<std::string>();
-    col.geometry = build_collider_geometry(c, path + ".shape", cj["shape"], h);
-    col.friction = cj["friction"].get<double>();
-    col.damping = cj["damping"].get<double>();
-    if (cj.contains("motion") && doc["solver"]["type"].get<std::string>() == "sph")
-      c.fail(path + ".motion", "moving colliders are available for the MPM solver only");
-    if (!cj["temperature"].is_null())
-      col.temperature = build_schedule(c, fmt::format("colliders[{}].temperature", i), cj["temperature"]);
-    col.heat_transfer_coefficient = cj["heat_transfer_coefficient"].get<double>();
-    setup.colliders.push_back(std::move(col));
-  }
+    const Real h = st.spacing * st.smoothing_ratio;
+    for (std::size_t i = 0; i < doc["colliders"].size(); ++i) {
+      const json& cj = doc["colliders"][i];
+      const std::string path = fmt::format("colliders[{}]", i);
+      Collider col;
+      col.name = cj["name"].get<std::string>();
+      col.geometry = build_collider_geometry(c, path + ".shape", cj["shape"], h);
+      col.friction = cj["friction"].get<double>();
+      col.damping = cj["damping"].get<double>();
+      if (cj.contains("motion") && doc["solver"]["type"].get<std::string>() == "sph")
+        c.fail(path + ".motion", "moving colliders are available for the MPM solver only");
+      if (!cj["temperature"].is_null())
+        col.temperature = build_schedule(c, fmt::format("colliders[{}].temperature", i), cj["temperature"]);
+      col.heat_transfer_coefficient = cj["heat_transfer_coefficient"].get<double>();
+      setup.colliders.push_back(std::move(col));
+    }
   }  // sph
 
   for (std::size_t i = 0; i < doc["probes"].size(); ++i) {
     const json& pj = doc["probes"][i];
     ProbeSpec p{pj["name"].get<std::string>(), vec3(pj["position"]), pj["quantities"].get<std::vector<std::string>>(),
                 pj["follow"].get<bool>()};
-    if (!Aabb{dmin, dmax}.contains(p.position)) c.fail(fmt::format("probes[{}].position", i), "lies outside the domain");
+    if (!Aabb{dmin, dmax}.contains(p.position))
+      c.fail(fmt::format("probes[{}].position", i), "lies outside the domain");
     sc.probes.push_back(std::move(p));
   }
 
@@ -573,9 +592,10 @@ std::string describe(const Scene& scene, Solver& solver) {
     out += fmt::format("grid       cell {} m, {} particles per cell\n", ms.cell_size, ms.particles_per_cell);
     out += fmt::format("particles  {} in total, mass {:.4g} kg\n", solver.particles().size(), mpm_solver.total_mass());
     for (const auto& mat : scene.mpm.materials)
-      out += fmt::format("  material {:<12} rho {} kg/m^3, mu {:.4g} Pa, lambda {:.4g} Pa, {}, {}\n", mat.name, mat.density, mat.lame.mu,
-                         mat.lame.lambda, std::holds_alternative<mpm::Hencky>(mat.elastic) ? "hencky" : "fixed corotated",
-                         std::holds_alternative<mpm::VonMises>(mat.plastic)   ? "von Mises plasticity"
+      out += fmt::format("  material {:<12} rho {} kg/m^3, mu {:.4g} Pa, lambda {:.4g} Pa, {}, {}\n", mat.name,
+                         mat.density, mat.lame.mu, mat.lame.lambda,
+                         std::holds_alternative<mpm::Hencky>(mat.elastic) ? "hencky" : "fixed corotated",
+                         std::holds_alternative<mpm::VonMises>(mat.plastic)  ? "von Mises plasticity"
                          : std::holds_alternative<mpm::CamClay>(mat.plastic) ? "Cam-clay plasticity"
                                                                              : "elastic");
     const Real dt = solver.max_stable_dt();
@@ -596,23 +616,27 @@ std::string describe(const Scene& scene, Solver& solver) {
   out += fmt::format("particles  {} in total\n", solver.particles().size());
   for (std::size_t b = 0; b < scene.sph.bodies.size(); ++b) {
     const auto& body = scene.sph.bodies[b];
-    out += fmt::format("  body {:<16} {:>9} particles  material {:<10} mass {:.4g} kg each, {:.1f} degC\n", "'" + body.name + "'",
-                       sph_solver.body_particle_count(b), scene.sph.materials[body.material].name,
-                       sph_solver.particle_mass(body.material), body.temperature);
+    out +=
+        fmt::format("  body {:<16} {:>9} particles  material {:<10} mass {:.4g} kg each, {:.1f} degC\n",
+                    "'" + body.name + "'", sph_solver.body_particle_count(b), scene.sph.materials[body.material].name,
+                    sph_solver.particle_mass(body.material), body.temperature);
     if (body.bubbles.fraction > 0) {
       const auto& bubble = solver.particles().integer("bubble");
       const auto& owner = solver.particles().integer("body_id");
       std::size_t count = 0;
       for (std::size_t i = 0; i < bubble.size(); ++i) count += owner[i] == int(b) && bubble[i];
-      out += fmt::format("    {} bubble particles ({:.1f}%)\n", count, 100.0 * count / sph_solver.body_particle_count(b));
+      out +=
+          fmt::format("    {} bubble particles ({:.1f}%)\n", count, 100.0 * count / sph_solver.body_particle_count(b));
     }
   }
   out += fmt::format("colliders  {}\n", scene.sph.colliders.size());
-  for (const auto& c : scene.sph.colliders) out += fmt::format("  '{}' friction {} damping {}\n", c.name, c.friction, c.damping);
+  for (const auto& c : scene.sph.colliders)
+    out += fmt::format("  '{}' friction {} damping {}\n", c.name, c.friction, c.damping);
   out += fmt::format("probes     {}\n", scene.probes.size());
   const Real dt = solver.max_stable_dt();
   out += "time step  bounds at t = 0:\n";
-  for (const auto& [name, value] : sph_solver.time_step_bounds()) out += fmt::format("  {:<10} {:.3e} s\n", name, value);
+  for (const auto& [name, value] : sph_solver.time_step_bounds())
+    out += fmt::format("  {:<10} {:.3e} s\n", name, value);
   out += fmt::format("  active: {} -> dt = {:.3e} s (about {:.0f} steps for the whole run at this rate)\n",
                      solver.active_dt_bound(), dt, scene.end_time / dt);
   return out;

@@ -28,7 +28,7 @@ struct OutputSpec {
 };
 
 struct Scene {
-  std::string file;         // as given by the user
+  std::string file;  // as given by the user
   std::string name;
   std::string description;
   std::string solver_type;  // "sph" or "mpm"

@@ -35,7 +35,8 @@ std::string describe(const json& v) {
 
 bool type_matches(const json& v, const std::string& t) {
   if (t == "number") return v.is_number();
-  if (t == "integer") return v.is_number_integer() || (v.is_number_float() && v.get<double>() == std::floor(v.get<double>()));
+  if (t == "integer")
+    return v.is_number_integer() || (v.is_number_float() && v.get<double>() == std::floor(v.get<double>()));
   if (t == "string") return v.is_string();
   if (t == "boolean") return v.is_boolean();
   if (t == "array") return v.is_array();
@@ -69,7 +70,8 @@ std::size_t edit_distance(const std::string& a, const std::string& b) {
   for (std::size_t i = 1; i <= a.size(); ++i) {
     cur[0] = i;
     for (std::size_t j = 1; j <= b.size(); ++j)
-      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (std::tolower(a[i - 1]) == std::tolower(b[j - 1]) ? 0 : 1)});
+      cur[j] = std::min(
+          {prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (std::tolower(a[i - 1]) == std::tolower(b[j - 1]) ? 0 : 1)});
     std::swap(prev, cur);
   }
   return prev[b.size()];
@@ -107,7 +109,8 @@ const json& SchemaValidator::resolve(const json& s) const {
 
 void SchemaValidator::validate(json& doc, const std::string& file) const { check(doc, schema_, "", file); }
 
-void SchemaValidator::check(json& value, const json& schema_in, const std::string& path, const std::string& file) const {
+void SchemaValidator::check(json& value, const json& schema_in, const std::string& path,
+                            const std::string& file) const {
   // Keys next to a $ref (unit, description, default) annotate the referenced schema.
   const json& s = resolve(schema_in);
   const std::string where = path.empty() ? file : file + ": " + path;
@@ -133,19 +136,21 @@ void SchemaValidator::check(json& value, const json& schema_in, const std::strin
       if (!value.is_object()) fail("expected an object, got " + describe(value));
       if (!value.contains(key))
         fail(fmt::format("missing required key '{}' (one of: {})", key, fmt::join(kinds, ", ")));
-      if (!value[key].is_string()) throw InputError(file + ": " + join_path(path, key), "expected a string, got " + describe(value[key]));
+      if (!value[key].is_string())
+        throw InputError(file + ": " + join_path(path, key), "expected a string, got " + describe(value[key]));
       const std::string kind = value[key].get<std::string>();
       for (std::size_t i = 0; i < kinds.size(); ++i)
         if (kinds[i] == kind) return check(value, alts[i], path, file);
       const std::string near = closest_match(kind, kinds);
       throw InputError(file + ": " + join_path(path, key),
-                       fmt::format("unknown {} \"{}\"{}; allowed: {}", key, kind, near.empty() ? "" : "; did you mean \"" + near + "\"?",
-                                   fmt::join(kinds, ", ")));
+                       fmt::format("unknown {} \"{}\"{}; allowed: {}", key, kind,
+                                   near.empty() ? "" : "; did you mean \"" + near + "\"?", fmt::join(kinds, ", ")));
     }
     std::vector<std::string> wanted;
     for (const json& a : alts) {
       const json& r = resolve(a);
-      const std::string t = r.value("type", json("any")).is_string() ? r.value("type", json("any")).get<std::string>() : "value";
+      const std::string t =
+          r.value("type", json("any")).is_string() ? r.value("type", json("any")).get<std::string>() : "value";
       wanted.push_back(r.contains("enum") ? "one of " + list_strings(r["enum"]) : article(t));
       if (r.contains("type") && r["type"].is_string() && type_matches(value, r["type"].get<std::string>()))
         return check(value, a, path, file);
@@ -168,7 +173,8 @@ void SchemaValidator::check(json& value, const json& schema_in, const std::strin
     }
     if (!ok) fail(fmt::format("expected {}, got {}", fmt::join(names, " or "), describe(value)));
   }
-  if (s.contains("const") && value != s["const"]) fail(fmt::format("must be {}, got {}", s["const"].dump(), describe(value)));
+  if (s.contains("const") && value != s["const"])
+    fail(fmt::format("must be {}, got {}", s["const"].dump(), describe(value)));
   if (s.contains("enum")) {
     const json& e = s["enum"];
     if (std::find(e.begin(), e.end(), value) == e.end()) {
@@ -204,7 +210,8 @@ void SchemaValidator::check(json& value, const json& schema_in, const std::strin
   }
   if (value.is_array()) {
     const std::size_t n = value.size();
-    if (s.contains("minItems") && s.contains("maxItems") && s["minItems"] == s["maxItems"] && n != s["minItems"].get<std::size_t>())
+    if (s.contains("minItems") && s.contains("maxItems") && s["minItems"] == s["maxItems"] &&
+        n != s["minItems"].get<std::size_t>())
       fail(fmt::format("expected exactly {} items, got {}", s["minItems"].get<std::size_t>(), n));
     if (s.contains("minItems") && n < s["minItems"].get<std::size_t>())
       fail(fmt::format("expected at least {} item(s), got {}", s["minItems"].get<std::size_t>(), n));
@@ -225,7 +232,8 @@ void SchemaValidator::check(json& value, const json& schema_in, const std::strin
         check(it.value(), props[key], sub, file);
       } else if (s.contains("additionalProperties") && s["additionalProperties"].is_object()) {
         check(it.value(), s["additionalProperties"], sub, file);
-      } else if (s.contains("properties") || (s.contains("additionalProperties") && s["additionalProperties"] == false)) {
+      } else if (s.contains("properties") ||
+                 (s.contains("additionalProperties") && s["additionalProperties"] == false)) {
         const std::string near = closest_match(key, allowed);
         throw InputError(file + ": " + sub,
                          fmt::format("unknown key{}; allowed keys here: {}",
@@ -235,8 +243,7 @@ void SchemaValidator::check(json& value, const json& schema_in, const std::strin
     // After unknown keys: a misspelt key is reported as such, not as the key it should have been.
     if (s.contains("required"))
       for (const json& r : s["required"])
-        if (!value.contains(r.get<std::string>()))
-          fail(fmt::format("missing required key '{}'", r.get<std::string>()));
+        if (!value.contains(r.get<std::string>())) fail(fmt::format("missing required key '{}'", r.get<std::string>()));
     if (s.contains("minProperties") && value.size() < s["minProperties"].get<std::size_t>())
       fail(fmt::format("needs at least {} entr{}", s["minProperties"].get<std::size_t>(),
                        s["minProperties"].get<std::size_t>() == 1 ? "y" : "ies"));
@@ -285,7 +292,8 @@ struct DocWriter {
     }
     std::string t;
     if (s_in.contains("type")) {
-      if (s_in["type"].is_string()) t = s_in["type"].get<std::string>();
+      if (s_in["type"].is_string())
+        t = s_in["type"].get<std::string>();
       else {
         std::vector<std::string> ts;
         for (const json& x : s_in["type"]) ts.push_back(x.get<std::string>());

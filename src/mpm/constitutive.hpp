@@ -57,8 +57,8 @@ struct VonMises {
 struct CamClay {
   Real yield_stress;
   Real viscosity = 0;
-  Real cohesion_slope = 2;   // a_p
-  Real initial_porosity = 0; // n₀
+  Real cohesion_slope = 2;    // a_p
+  Real initial_porosity = 0;  // n₀
   Real porosity(Real plastic_j) const;
   Real a(Real plastic_j) const;  // A(n(J^P))
 };

@@ -52,17 +52,21 @@ void apply_contact(Vec3& v, const Vec3& n, Contact contact, Real mu) {
 // Calls fn(p, ax, ay, az) for every particle, block colour by block colour:
 // same-coloured blocks never share a node, so scatters need no atomics.
 template <class Fn>
-void for_each_by_colour(const std::vector<std::vector<std::uint32_t>>& colour_blocks, const std::vector<std::uint32_t>& block_start,
-                        const std::vector<std::uint32_t>& order, const std::vector<Vec3>& x, const Vec3& origin, Real inv_dx, Fn&& fn) {
+void for_each_by_colour(const std::vector<std::vector<std::uint32_t>>& colour_blocks,
+                        const std::vector<std::uint32_t>& block_start, const std::vector<std::uint32_t>& order,
+                        const std::vector<Vec3>& x, const Vec3& origin, Real inv_dx, Fn&& fn) {
   for (const auto& blocks : colour_blocks) {
-    parallel_for(blocks.size(), [&](std::size_t bi) {
-      const std::uint32_t b = blocks[bi];
-      for (std::uint32_t k = block_start[b]; k < block_start[b + 1]; ++k) {
-        const std::uint32_t p = order[k];
-        const Vec3 g = (x[p] - origin) * inv_dx;
-        fn(p, axis_weights(g.x()), axis_weights(g.y()), axis_weights(g.z()));
-      }
-    }, 1);
+    parallel_for(
+        blocks.size(),
+        [&](std::size_t bi) {
+          const std::uint32_t b = blocks[bi];
+          for (std::uint32_t k = block_start[b]; k < block_start[b + 1]; ++k) {
+            const std::uint32_t p = order[k];
+            const Vec3 g = (x[p] - origin) * inv_dx;
+            fn(p, axis_weights(g.x()), axis_weights(g.y()), axis_weights(g.z()));
+          }
+        },
+        1);
   }
 }
 
@@ -114,7 +118,8 @@ MpmSolver::MpmSolver(Setup setup)
   ny_ = static_cast<int>(std::ceil(ext.y() * inv_dx_)) + 1;
   nz_ = static_cast<int>(std::ceil(ext.z() * inv_dx_)) + 1;
   const std::size_t nodes = std::size_t(nx_) * ny_ * nz_;
-  if (nodes > 400'000'000) throw InputError("solver.mpm.cell_size", "the grid over the domain would have more than 4e8 nodes");
+  if (nodes > 400'000'000)
+    throw InputError("solver.mpm.cell_size", "the grid over the domain would have more than 4e8 nodes");
   grid_.assign(nodes, Node{0, {0, 0, 0}});
   if (thermal()) heat_grid_.assign(nodes, HeatNode{});
   if (s.heat == HeatMethod::implicit) implicit_mass_.assign(nodes, 0);
@@ -151,7 +156,8 @@ void MpmSolver::build_particles() {
     for (const Vec3& p : sample_lattice(setup_.bodies[b].shape, spacing))
       if ((p.array() > lo.array()).all() && (p.array() < hi.array()).all()) points[b].push_back(p);
     if (points[b].empty())
-      throw InputError("bodies[" + std::to_string(b) + "]", "no material points inside the domain (shape too small for the cell size, or outside)");
+      throw InputError("bodies[" + std::to_string(b) + "]",
+                       "no material points inside the domain (shape too small for the cell size, or outside)");
     total += points[b].size();
   }
   particles_.resize(total);
@@ -262,9 +268,12 @@ Real MpmSolver::max_stable_dt() {
     const Real scale = s.bake_time_scale;
     for (const Material& mat : setup_.materials) {
       if (s.heat == HeatMethod::explicit_ && mat.conductivity > 0)
-        limit(mat.density * mat.specific_heat * dx_ * dx_ / (6 * mat.conductivity * std::max(acc.jmax, Real(1))) / scale, "heat_conduction");
+        limit(
+            mat.density * mat.specific_heat * dx_ * dx_ / (6 * mat.conductivity * std::max(acc.jmax, Real(1))) / scale,
+            "heat_conduction");
       if (!s.baseline && mat.water.active() && mat.water.diffusivity > 0)
-        limit(dx_ * dx_ / (6 * mat.water.diffusion_coefficient(std::max(acc.tmax, Real(100)))) / scale, "water_diffusion");
+        limit(dx_ * dx_ / (6 * mat.water.diffusion_coefficient(std::max(acc.tmax, Real(100)))) / scale,
+              "water_diffusion");
     }
     if (s.heat == HeatMethod::explicit_ && acc.exchange > 0) limit(0.5 / acc.exchange / scale, "heat_exchange");
   }
@@ -277,7 +286,8 @@ void MpmSolver::phase_browning(Real dt) {
   ScopedPhase t(timers_, t_browning_);
   const BrowningKinetics& kinetics = setup_.browning;
   const Real dt_bake = dt * setup_.settings.bake_time_scale;
-  parallel_for(x_.size(), [&](std::size_t i) { browning_[i] = kinetics.advance(browning_[i], temperature_[i], dt_bake); });
+  parallel_for(x_.size(),
+               [&](std::size_t i) { browning_[i] = kinetics.advance(browning_[i], temperature_[i], dt_bake); });
 }
 
 void MpmSolver::step(Real dt) {
@@ -303,15 +313,18 @@ void MpmSolver::phase_sort() {
   const std::size_t blocks = std::size_t(bx_) * by_ * bz_;
   block_key_.resize(n);
   const Vec3 origin = setup_.domain.min;
-  parallel_for(n, [&](std::size_t i) {
-    const Vec3 g = (x_[i] - origin) * inv_dx_;
-    int c[3];
-    for (int d = 0; d < 3; ++d) c[d] = std::max(0, static_cast<int>(std::floor(g[d] - 0.5))) / kBlock;
-    c[0] = std::min(c[0], bx_ - 1);
-    c[1] = std::min(c[1], by_ - 1);
-    c[2] = std::min(c[2], bz_ - 1);
-    block_key_[i] = static_cast<std::uint32_t>((std::size_t(c[0]) * by_ + c[1]) * bz_ + c[2]);
-  }, 4096);
+  parallel_for(
+      n,
+      [&](std::size_t i) {
+        const Vec3 g = (x_[i] - origin) * inv_dx_;
+        int c[3];
+        for (int d = 0; d < 3; ++d) c[d] = std::max(0, static_cast<int>(std::floor(g[d] - 0.5))) / kBlock;
+        c[0] = std::min(c[0], bx_ - 1);
+        c[1] = std::min(c[1], by_ - 1);
+        c[2] = std::min(c[2], bz_ - 1);
+        block_key_[i] = static_cast<std::uint32_t>((std::size_t(c[0]) * by_ + c[1]) * bz_ + c[2]);
+      },
+      4096);
   block_start_.assign(blocks + 1, 0);
   for (std::size_t i = 0; i < n; ++i) ++block_start_[block_key_[i] + 1];
   for (std::size_t b = 0; b < blocks; ++b) block_start_[b + 1] += block_start_[b];
@@ -333,7 +346,6 @@ void MpmSolver::phase_sort() {
   }
 }
 
-
 // Spec 4.1 and 4.4: m_i = Σ w m_p, (m v)_i = Σ w m_p (v_p + C_p (x_i − x_p))
 // (APIC), and the stress force. The force uses the MLS-MPM gradient
 // ∇w_ip ≈ w_ip D⁻¹ (x_i − x_p), D⁻¹ = 4/Δx² for quadratic B-splines, so it
@@ -345,77 +357,82 @@ void MpmSolver::phase_sort() {
 // (∇w_ip = w (4/Δx) o, o the node offset in cells).
 template <bool kThermal>
 void MpmSolver::p2g(Real dt) {
-  parallel_for(grid_.size(), [&](std::size_t k) {
-    grid_[k] = Node{0, {0, 0, 0}};
-    if constexpr (kThermal) {
-      heat_grid_[k] = HeatNode{};
-      if (!implicit_mass_.empty()) implicit_mass_[k] = 0;
-    }
-  }, 1 << 14);
+  parallel_for(
+      grid_.size(),
+      [&](std::size_t k) {
+        grid_[k] = Node{0, {0, 0, 0}};
+        if constexpr (kThermal) {
+          heat_grid_[k] = HeatNode{};
+          if (!implicit_mass_.empty()) implicit_mass_[k] = 0;
+        }
+      },
+      1 << 14);
   const Vec3 origin = setup_.domain.min;
   const std::size_t nz = nz_, syz = std::size_t(ny_) * nz_;
   const Real d_inv = 4.0 * inv_dx_ * inv_dx_;
-  for_each_by_colour(colour_blocks_, block_start_, order_, x_, origin, inv_dx_, [&](std::uint32_t p, const Axis& ax, const Axis& ay, const Axis& az) {
-    const Real mp = m_[p];
-    // A Δx, so that A (x_i − x_p) = (A Δx) · offset-in-cells.
-    const Real s = -dt * volume0_[p] * d_inv;
-    const Vec3 td = tau_diag_[p], to = tau_off_[p];
-    Real a[3][3];  // a[col][row]
-    const Vec3 cc[3] = {c0_[p], c1_[p], c2_[p]};
-    for (int col = 0; col < 3; ++col)
-      for (int row = 0; row < 3; ++row) a[col][row] = mp * cc[col][row];
-    a[0][0] += s * td.x(), a[1][1] += s * td.y(), a[2][2] += s * td.z();
-    a[1][0] += s * to.x(), a[0][1] += s * to.x();
-    a[2][0] += s * to.y(), a[0][2] += s * to.y();
-    a[2][1] += s * to.z(), a[1][2] += s * to.z();
-    for (int col = 0; col < 3; ++col)
-      for (int row = 0; row < 3; ++row) a[col][row] *= dx_;
-    const Real mv[3] = {mp * v_[p].x(), mp * v_[p].y(), mp * v_[p].z()};
-    // Thermal channels: scalar parts (h) and offset slopes (hv, per axis).
-    Real h[6] = {0, 0, 0, 0, 0, 0}, hv[3][2] = {{0, 0}, {0, 0}, {0, 0}};
-    if constexpr (kThermal) {
-      h[0] = heat_capacity_[p];
-      h[1] = heat_capacity_[p] * temperature_[p];
-      h[2] = heat_src_[p];
-      h[3] = water_[p];
-      h[4] = j_[p] * volume0_[p];
-      h[5] = water_src_[p];
-      for (int d = 0; d < 3; ++d) hv[d][0] = heat_vec_[p][d], hv[d][1] = water_vec_[p][d];
-    }
-    for (int i = 0; i < 3; ++i) {
-      const Real ox = i - ax.frac;
-      Real ti[3];
-      for (int r = 0; r < 3; ++r) ti[r] = mv[r] + a[0][r] * ox;
-      const Real qi = h[2] + hv[0][0] * ox, wi = h[5] + hv[0][1] * ox;
-      for (int j = 0; j < 3; ++j) {
-        const Real oy = j - ay.frac, wij = ax.w[i] * ay.w[j];
-        Real tj[3];
-        for (int r = 0; r < 3; ++r) tj[r] = ti[r] + a[1][r] * oy;
-        const std::size_t row_index = std::size_t(ax.base + i) * syz + std::size_t(ay.base + j) * nz + az.base;
-        Node* row = &grid_[row_index];
-        for (int kk = 0; kk < 3; ++kk) {
-          const Real oz = kk - az.frac, w = wij * az.w[kk];
-          Node& node = row[kk];
-          node.mass += w * mp;
-          for (int r = 0; r < 3; ++r) node.mv[r] += w * (tj[r] + a[2][r] * oz);
-        }
-        if constexpr (kThermal) {
-          const Real qj = qi + hv[1][0] * oy, wj = wi + hv[1][1] * oy;
-          HeatNode* hrow = &heat_grid_[row_index];
-          for (int kk = 0; kk < 3; ++kk) {
-            const Real oz = kk - az.frac, w = wij * az.w[kk];
-            Real* f = hrow[kk].f;
-            f[0] += w * h[0];
-            f[1] += w * h[1];
-            f[2] += w * (qj + hv[2][0] * oz);
-            f[3] += w * h[3];
-            f[4] += w * h[4];
-            f[5] += w * (wj + hv[2][1] * oz);
-          }
-        }
-      }
-    }
-  });
+  for_each_by_colour(colour_blocks_, block_start_, order_, x_, origin, inv_dx_,
+                     [&](std::uint32_t p, const Axis& ax, const Axis& ay, const Axis& az) {
+                       const Real mp = m_[p];
+                       // A Δx, so that A (x_i − x_p) = (A Δx) · offset-in-cells.
+                       const Real s = -dt * volume0_[p] * d_inv;
+                       const Vec3 td = tau_diag_[p], to = tau_off_[p];
+                       Real a[3][3];  // a[col][row]
+                       const Vec3 cc[3] = {c0_[p], c1_[p], c2_[p]};
+                       for (int col = 0; col < 3; ++col)
+                         for (int row = 0; row < 3; ++row) a[col][row] = mp * cc[col][row];
+                       a[0][0] += s * td.x(), a[1][1] += s * td.y(), a[2][2] += s * td.z();
+                       a[1][0] += s * to.x(), a[0][1] += s * to.x();
+                       a[2][0] += s * to.y(), a[0][2] += s * to.y();
+                       a[2][1] += s * to.z(), a[1][2] += s * to.z();
+                       for (int col = 0; col < 3; ++col)
+                         for (int row = 0; row < 3; ++row) a[col][row] *= dx_;
+                       const Real mv[3] = {mp * v_[p].x(), mp * v_[p].y(), mp * v_[p].z()};
+                       // Thermal channels: scalar parts (h) and offset slopes (hv, per axis).
+                       Real h[6] = {0, 0, 0, 0, 0, 0}, hv[3][2] = {{0, 0}, {0, 0}, {0, 0}};
+                       if constexpr (kThermal) {
+                         h[0] = heat_capacity_[p];
+                         h[1] = heat_capacity_[p] * temperature_[p];
+                         h[2] = heat_src_[p];
+                         h[3] = water_[p];
+                         h[4] = j_[p] * volume0_[p];
+                         h[5] = water_src_[p];
+                         for (int d = 0; d < 3; ++d) hv[d][0] = heat_vec_[p][d], hv[d][1] = water_vec_[p][d];
+                       }
+                       for (int i = 0; i < 3; ++i) {
+                         const Real ox = i - ax.frac;
+                         Real ti[3];
+                         for (int r = 0; r < 3; ++r) ti[r] = mv[r] + a[0][r] * ox;
+                         const Real qi = h[2] + hv[0][0] * ox, wi = h[5] + hv[0][1] * ox;
+                         for (int j = 0; j < 3; ++j) {
+                           const Real oy = j - ay.frac, wij = ax.w[i] * ay.w[j];
+                           Real tj[3];
+                           for (int r = 0; r < 3; ++r) tj[r] = ti[r] + a[1][r] * oy;
+                           const std::size_t row_index =
+                               std::size_t(ax.base + i) * syz + std::size_t(ay.base + j) * nz + az.base;
+                           Node* row = &grid_[row_index];
+                           for (int kk = 0; kk < 3; ++kk) {
+                             const Real oz = kk - az.frac, w = wij * az.w[kk];
+                             Node& node = row[kk];
+                             node.mass += w * mp;
+                             for (int r = 0; r < 3; ++r) node.mv[r] += w * (tj[r] + a[2][r] * oz);
+                           }
+                           if constexpr (kThermal) {
+                             const Real qj = qi + hv[1][0] * oy, wj = wi + hv[1][1] * oy;
+                             HeatNode* hrow = &heat_grid_[row_index];
+                             for (int kk = 0; kk < 3; ++kk) {
+                               const Real oz = kk - az.frac, w = wij * az.w[kk];
+                               Real* f = hrow[kk].f;
+                               f[0] += w * h[0];
+                               f[1] += w * h[1];
+                               f[2] += w * (qj + hv[2][0] * oz);
+                               f[3] += w * h[3];
+                               f[4] += w * h[4];
+                               f[5] += w * (wj + hv[2][1] * oz);
+                             }
+                           }
+                         }
+                       }
+                     });
 }
 
 void MpmSolver::phase_p2g(Real dt) {
@@ -425,7 +442,8 @@ void MpmSolver::phase_p2g(Real dt) {
     // What the boundary terms put in this step (spec 4.2, 4.3 bookkeeping).
     const Real dtb = dt * setup_.settings.bake_time_scale;
     // (implicit heat books the energy its solve puts in)
-    if (setup_.settings.heat == HeatMethod::explicit_) budget_.heat_in += dtb * deterministic_sum(x_.size(), [&](std::size_t i) { return heat_src_[i]; });
+    if (setup_.settings.heat == HeatMethod::explicit_)
+      budget_.heat_in += dtb * deterministic_sum(x_.size(), [&](std::size_t i) { return heat_src_[i]; });
     budget_.evaporated -= dtb * deterministic_sum(x_.size(), [&](std::size_t i) { return water_src_[i]; });
   } else {
     p2g<false>(dt);
@@ -446,11 +464,13 @@ void MpmSolver::phase_grid(Real dt) {
   const Vec3 origin = setup_.domain.min;
   const Vec3 g = setup_.gravity;
   // The domain walls sit two cells inside the grid so no stencil leaves it.
-  const ColliderGeometry walls = InsideBoxCollider{{setup_.domain.min + Vec3::Constant(2 * dx_), setup_.domain.max - Vec3::Constant(2 * dx_)}};
+  const ColliderGeometry walls =
+      InsideBoxCollider{{setup_.domain.min + Vec3::Constant(2 * dx_), setup_.domain.max - Vec3::Constant(2 * dx_)}};
   const std::size_t nz = nz_, syz = std::size_t(ny_) * nz_;
   // Collider poses at the end of the step, where the nodes' new velocities take the material.
   collider_poses_.resize(setup_.colliders.size());
-  for (std::size_t ci = 0; ci < setup_.colliders.size(); ++ci) collider_poses_[ci] = setup_.colliders[ci].motion.at(time_ + dt);
+  for (std::size_t ci = 0; ci < setup_.colliders.size(); ++ci)
+    collider_poses_[ci] = setup_.colliders[ci].motion.at(time_ + dt);
   const bool heat = thermal();
   const Settings& st = setup_.settings;
   const Real dtb = dt * st.bake_time_scale, bake_t = (time_ + dt) * st.bake_time_scale;
@@ -458,7 +478,8 @@ void MpmSolver::phase_grid(Real dt) {
   std::vector<Real>& collider_t = collider_temperatures_;
   collider_t.assign(setup_.colliders.size(), 0);
   for (std::size_t ci = 0; ci < setup_.colliders.size(); ++ci)
-    if (setup_.colliders[ci].collider.temperature) collider_t[ci] = (*setup_.colliders[ci].collider.temperature)(bake_t);
+    if (setup_.colliders[ci].collider.temperature)
+      collider_t[ci] = (*setup_.colliders[ci].collider.temperature)(bake_t);
   const Real inv_rho_w = 1.0 / Moisture{}.water_density;
   const Real clamped = deterministic_reduce(
       grid_.size(), Real(0),
@@ -477,7 +498,8 @@ void MpmSolver::phase_grid(Real dt) {
           Real* f = heat ? heat_grid_[k].f : nullptr;
           // (Nodes on the grid's outer layer have no neighbours to difference: no area there.)
           const std::size_t ki = k / syz, kj = (k / nz) % ny_, kk = k % nz;
-          const bool inner = ki > 0 && kj > 0 && kk > 0 && ki + 1 < std::size_t(nx_) && kj + 1 < std::size_t(ny_) && kk + 1 < std::size_t(nz_);
+          const bool inner = ki > 0 && kj > 0 && kk > 0 && ki + 1 < std::size_t(nx_) && kj + 1 < std::size_t(ny_) &&
+                             kk + 1 < std::size_t(nz_);
           const bool exchange = heat && inner && f[0] > 0 && f[4] > 0;
           Vec3 area = Vec3::Zero();
           if (exchange)
@@ -507,7 +529,9 @@ void MpmSolver::phase_grid(Real dt) {
             v = rel + vc;
           }
           if (!near_collider_.empty()) near_collider_[k] = near;
-          for_each_wall(walls, xi, 0.0, [&](const WallContact& w) { apply_contact(v, w.normal, Contact::separate, setup_.domain_friction); });
+          for_each_wall(walls, xi, 0.0, [&](const WallContact& w) {
+            apply_contact(v, w.normal, Contact::separate, setup_.domain_friction);
+          });
           node.mv[0] = v.x(), node.mv[1] = v.y(), node.mv[2] = v.z();
           if (!heat) continue;
           const Real volume = f[4];
@@ -553,99 +577,103 @@ void MpmSolver::g2p(Real dt) {
   const Vec3 origin = setup_.domain.min;
   const std::size_t nz = nz_, syz = std::size_t(ny_) * nz_;
   const Real d_inv = 4.0 * inv_dx_;  // D⁻¹ (x_i − x_p) with offsets in cells: 4/Δx² · Δx
-  parallel_for(x_.size(), [&](std::size_t p) {
-    const Vec3 g = (x_[p] - origin) * inv_dx_;
-    const Axis ax = axis_weights(g.x()), ay = axis_weights(g.y()), az = axis_weights(g.z());
-    Real v[3] = {0, 0, 0};
-    Real b[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};  // b[col][row] = Σ w v_row offset_col
-    // Thermal gathers: Σ w of {Δθ, k, kθ, r, k_air} and Σ w o of {θ_new, s}.
-    Real hs[5] = {0, 0, 0, 0, 0}, hg[3][2] = {{0, 0}, {0, 0}, {0, 0}};
-    for (int i = 0; i < 3; ++i) {
-      Real vi[3] = {0, 0, 0}, bi[2][3] = {{0, 0, 0}, {0, 0, 0}};  // Σ over j, k at this i
-      Real hsi[5] = {0, 0, 0, 0, 0}, hgi[3][2] = {{0, 0}, {0, 0}, {0, 0}};
-      for (int j = 0; j < 3; ++j) {
-        const Real oy = j - ay.frac;
-        const std::size_t row_index = std::size_t(ax.base + i) * syz + std::size_t(ay.base + j) * nz + az.base;
-        const Node* row = &grid_[row_index];
-        Real vj[3] = {0, 0, 0}, bz[3] = {0, 0, 0};
-        for (int kk = 0; kk < 3; ++kk) {
-          const Real w = az.w[kk], oz = kk - az.frac;
+  parallel_for(
+      x_.size(),
+      [&](std::size_t p) {
+        const Vec3 g = (x_[p] - origin) * inv_dx_;
+        const Axis ax = axis_weights(g.x()), ay = axis_weights(g.y()), az = axis_weights(g.z());
+        Real v[3] = {0, 0, 0};
+        Real b[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};  // b[col][row] = Σ w v_row offset_col
+        // Thermal gathers: Σ w of {Δθ, k, kθ, r, k_air} and Σ w o of {θ_new, s}.
+        Real hs[5] = {0, 0, 0, 0, 0}, hg[3][2] = {{0, 0}, {0, 0}, {0, 0}};
+        for (int i = 0; i < 3; ++i) {
+          Real vi[3] = {0, 0, 0}, bi[2][3] = {{0, 0, 0}, {0, 0, 0}};  // Σ over j, k at this i
+          Real hsi[5] = {0, 0, 0, 0, 0}, hgi[3][2] = {{0, 0}, {0, 0}, {0, 0}};
+          for (int j = 0; j < 3; ++j) {
+            const Real oy = j - ay.frac;
+            const std::size_t row_index = std::size_t(ax.base + i) * syz + std::size_t(ay.base + j) * nz + az.base;
+            const Node* row = &grid_[row_index];
+            Real vj[3] = {0, 0, 0}, bz[3] = {0, 0, 0};
+            for (int kk = 0; kk < 3; ++kk) {
+              const Real w = az.w[kk], oz = kk - az.frac;
+              for (int r = 0; r < 3; ++r) {
+                const Real wv = w * row[kk].mv[r];
+                vj[r] += wv;
+                bz[r] += wv * oz;
+              }
+            }
+            const Real wy = ay.w[j];
+            for (int r = 0; r < 3; ++r) {
+              vi[r] += wy * vj[r];
+              bi[0][r] += wy * vj[r] * oy;
+              bi[1][r] += wy * bz[r];
+            }
+            if constexpr (kThermal) {
+              const HeatNode* hrow = &heat_grid_[row_index];
+              Real sj[5] = {0, 0, 0, 0, 0}, tj[2] = {0, 0}, tz[2] = {0, 0};
+              for (int kk = 0; kk < 3; ++kk) {
+                const Real w = az.w[kk], oz = kk - az.frac;
+                const Real* f = hrow[kk].f;
+                sj[0] += w * f[0], sj[1] += w * f[2], sj[2] += w * f[3], sj[3] += w * f[5], sj[4] += w * f[7];
+                tj[0] += w * f[1], tj[1] += w * f[6];
+                tz[0] += w * f[1] * oz, tz[1] += w * f[6] * oz;
+              }
+              for (int q = 0; q < 5; ++q) hsi[q] += wy * sj[q];
+              for (int q = 0; q < 2; ++q) {
+                hgi[0][q] += wy * tj[q];  // carried to x below
+                hgi[1][q] += wy * tj[q] * oy;
+                hgi[2][q] += wy * tz[q];
+              }
+            }
+          }
+          const Real wx = ax.w[i], ox = i - ax.frac;
           for (int r = 0; r < 3; ++r) {
-            const Real wv = w * row[kk].mv[r];
-            vj[r] += wv;
-            bz[r] += wv * oz;
+            v[r] += wx * vi[r];
+            b[0][r] += wx * vi[r] * ox;
+            b[1][r] += wx * bi[0][r];
+            b[2][r] += wx * bi[1][r];
+          }
+          if constexpr (kThermal) {
+            for (int q = 0; q < 5; ++q) hs[q] += wx * hsi[q];
+            for (int q = 0; q < 2; ++q) {
+              hg[0][q] += wx * hgi[0][q] * ox;
+              hg[1][q] += wx * hgi[1][q];
+              hg[2][q] += wx * hgi[2][q];
+            }
           }
         }
-        const Real wy = ay.w[j];
-        for (int r = 0; r < 3; ++r) {
-          vi[r] += wy * vj[r];
-          bi[0][r] += wy * vj[r] * oy;
-          bi[1][r] += wy * bz[r];
+        const Vec3 vp(v[0], v[1], v[2]);
+        Mat3 c;
+        for (int col = 0; col < 3; ++col)
+          for (int r = 0; r < 3; ++r) c(r, col) = d_inv * b[col][r];
+        v_[p] = vp;
+        c0_[p] = c.col(0), c1_[p] = c.col(1), c2_[p] = c.col(2);
+        const Mat3 df = Mat3::Identity() + dt * c;
+        set_deformation_gradient(p, df * deformation_gradient(p));
+        j_[p] *= df.determinant();
+        x_[p] += dt * vp;
+        if (!near_collider_.empty()) {
+          // The node nearest the particle's old position (it moves less than a cell).
+          const std::size_t nearest =
+              std::size_t(g.x() + 0.5) * syz + std::size_t(g.y() + 0.5) * nz + std::size_t(g.z() + 0.5);
+          if (near_collider_[nearest]) push_out_of_colliders(p);
         }
         if constexpr (kThermal) {
-          const HeatNode* hrow = &heat_grid_[row_index];
-          Real sj[5] = {0, 0, 0, 0, 0}, tj[2] = {0, 0}, tz[2] = {0, 0};
-          for (int kk = 0; kk < 3; ++kk) {
-            const Real w = az.w[kk], oz = kk - az.frac;
-            const Real* f = hrow[kk].f;
-            sj[0] += w * f[0], sj[1] += w * f[2], sj[2] += w * f[3], sj[3] += w * f[5], sj[4] += w * f[7];
-            tj[0] += w * f[1], tj[1] += w * f[6];
-            tz[0] += w * f[1] * oz, tz[1] += w * f[6] * oz;
-          }
-          for (int q = 0; q < 5; ++q) hsi[q] += wy * sj[q];
-          for (int q = 0; q < 2; ++q) {
-            hgi[0][q] += wy * tj[q];       // carried to x below
-            hgi[1][q] += wy * tj[q] * oy;
-            hgi[2][q] += wy * tz[q];
-          }
+          const Real volume = j_[p] * volume0_[p];
+          // FLIP: θ_p += Σ w Δθ_i (spec 4.3), kept within the coldest and hottest
+          // temperatures in the scene (particles, air, colliders) before the step:
+          // where the material was cut (the lava cake's knife) FLIP increments took
+          // particles to 6 °C in a 20–25 °C room.
+          temperature_[p] = std::clamp(temperature_[p] + hs[0], flip_bounds_[0], flip_bounds_[1]);
+          exchange_[p] = volume * hs[1];
+          exchange_t_[p] = volume * hs[2];
+          water_[p] *= 1 + hs[3];
+          air_area_[p] = volume * hs[4];
+          grad_theta_[p] = d_inv * Vec3(hg[0][0], hg[1][0], hg[2][0]);
+          grad_s_[p] = d_inv * Vec3(hg[0][1], hg[1][1], hg[2][1]);
         }
-      }
-      const Real wx = ax.w[i], ox = i - ax.frac;
-      for (int r = 0; r < 3; ++r) {
-        v[r] += wx * vi[r];
-        b[0][r] += wx * vi[r] * ox;
-        b[1][r] += wx * bi[0][r];
-        b[2][r] += wx * bi[1][r];
-      }
-      if constexpr (kThermal) {
-        for (int q = 0; q < 5; ++q) hs[q] += wx * hsi[q];
-        for (int q = 0; q < 2; ++q) {
-          hg[0][q] += wx * hgi[0][q] * ox;
-          hg[1][q] += wx * hgi[1][q];
-          hg[2][q] += wx * hgi[2][q];
-        }
-      }
-    }
-    const Vec3 vp(v[0], v[1], v[2]);
-    Mat3 c;
-    for (int col = 0; col < 3; ++col)
-      for (int r = 0; r < 3; ++r) c(r, col) = d_inv * b[col][r];
-    v_[p] = vp;
-    c0_[p] = c.col(0), c1_[p] = c.col(1), c2_[p] = c.col(2);
-    const Mat3 df = Mat3::Identity() + dt * c;
-    set_deformation_gradient(p, df * deformation_gradient(p));
-    j_[p] *= df.determinant();
-    x_[p] += dt * vp;
-    if (!near_collider_.empty()) {
-      // The node nearest the particle's old position (it moves less than a cell).
-      const std::size_t nearest = std::size_t(g.x() + 0.5) * syz + std::size_t(g.y() + 0.5) * nz + std::size_t(g.z() + 0.5);
-      if (near_collider_[nearest]) push_out_of_colliders(p);
-    }
-    if constexpr (kThermal) {
-      const Real volume = j_[p] * volume0_[p];
-      // FLIP: θ_p += Σ w Δθ_i (spec 4.3), kept within the coldest and hottest
-      // temperatures in the scene (particles, air, colliders) before the step:
-      // where the material was cut (the lava cake's knife) FLIP increments took
-      // particles to 6 °C in a 20–25 °C room.
-      temperature_[p] = std::clamp(temperature_[p] + hs[0], flip_bounds_[0], flip_bounds_[1]);
-      exchange_[p] = volume * hs[1];
-      exchange_t_[p] = volume * hs[2];
-      water_[p] *= 1 + hs[3];
-      air_area_[p] = volume * hs[4];
-      grad_theta_[p] = d_inv * Vec3(hg[0][0], hg[1][0], hg[2][0]);
-      grad_s_[p] = d_inv * Vec3(hg[0][1], hg[1][1], hg[2][1]);
-    }
-  }, 1024);
+      },
+      1024);
 }
 
 // Grid contact alone lets material seep through a collider only one or two
@@ -676,10 +704,12 @@ void MpmSolver::phase_g2p(Real dt) {
   // The hottest and coldest temperatures a particle may take this step.
   const Real inf = std::numeric_limits<Real>::infinity();
   Real lo = deterministic_reduce(
-      x_.size(), inf, [&](std::size_t b, std::size_t e) { return *std::min_element(&temperature_[b], &temperature_[b] + (e - b)); },
+      x_.size(), inf,
+      [&](std::size_t b, std::size_t e) { return *std::min_element(&temperature_[b], &temperature_[b] + (e - b)); },
       [](Real a, Real c) { return std::min(a, c); });
   Real hi = deterministic_reduce(
-      x_.size(), -inf, [&](std::size_t b, std::size_t e) { return *std::max_element(&temperature_[b], &temperature_[b] + (e - b)); },
+      x_.size(), -inf,
+      [&](std::size_t b, std::size_t e) { return *std::max_element(&temperature_[b], &temperature_[b] + (e - b)); },
       [](Real a, Real c) { return std::max(a, c); });
   const Real scale = setup_.settings.bake_time_scale;
   for (const Real air : {setup_.air_temperature(time_ * scale), setup_.air_temperature((time_ + dt) * scale)})
@@ -707,77 +737,91 @@ void MpmSolver::phase_plasticity(Real dt) {
     const Material& mat = setup_.materials[mi];
     const bool gas = mixture && mat.gas.active(), wet = mixture && mat.water.active();
     const Real expansion = mat.thermal_expansion * mat.lame.lambda;
-    std::visit([&](const auto& elastic) {
-      std::visit([&](const auto& plastic_law) {
-        using P = std::decay_t<decltype(plastic_law)>;
-        const std::vector<std::uint32_t>& members = material_members_[mi];
-        parallel_for(members.size(), [&](std::size_t k) {
-          const std::size_t i = members[k];
-          const Real theta = temperature_[i];
-          Mat3 f = deformation_gradient(i);
-          Svd3 s = svd3(f);
-          if constexpr (!std::is_same_v<P, NoPlasticity>) {
-            P law = plastic_law;
-            if (heat && mat.setting) {
-              if (!gelatinized_[i] && theta >= mat.setting->set_temperature) gelatinized_[i] = 1, jp_set_[i] = jp_[i];
-              const Real te = mat.setting->effective_temperature(theta, gelatinized_[i] != 0);
-              law.yield_stress = mat.setting->yield_stress(te);
-              law.viscosity = mat.setting->viscosity(te);
-            }
-            if constexpr (std::is_same_v<P, CamClay>) {
-              if (heat && st.baseline) law.cohesion_slope = 0;  // baseline: no porosity in the yield surface
-              // τ_y is a Cauchy stress: in Kirchhoff stress the surface grows with the
-              // plastic dilation, so gas (whose Kirchhoff pressure n R θ / n_p barely
-              // falls as pores grow) expands a dough to a finite size.
-              law.yield_stress *= jp_[i];
-              // Brittle set crust (a departure, docs/physics.md): dilation after setting weakens it.
-              if (wet && mat.setting && gelatinized_[i]) {
-                const Real water_lost = 1 - water_[i] / (mat.water.saturation * mat.water.water_density * volume0_[i]);
-                law.yield_stress *= mat.setting->softening_factor(jp_[i], jp_set_[i], water_lost);
-              }
-            }
-            const Vec3 trial = s.sigma;
-            s = return_map(law, mat.lame, dt, jp_[i], s);
-            if (s.sigma != trial) {
-              f = compose(s);
-              set_deformation_gradient(i, f);
-            }
-            jp_[i] = j_[i] / s.sigma.prod();
-          }
-          Mat3 tau = kirchhoff_stress(elastic, f, s);
-          if (heat) {
-            const Real j = j_[i], volume = j * volume0_[i];
-            Real kirchhoff_pressure = 0;
-            if (expansion != 0) {
-              const Real theta_ref = setup_.bodies[body_[i]].temperature;
-              kirchhoff_pressure += j * expansion * (theta - theta_ref);
-              // Spec 2: ρ c Dθ/Dt = −c λ θ_K ∇·v (mechanical time; ∇·v = tr C).
-              const Real div_v = c0_[i].x() + c1_[i].y() + c2_[i].z();
-              temperature_[i] -= dt * expansion * (theta + kZeroCelsius) * div_v * volume / heat_capacity_[i];
-            }
-            if (gas) {
-              co2_[i] = mat.gas.generated(co2_[i], dtb, theta, mat.density);
-              const Real jp_gas = Leavening::kirchhoff_pressure(co2_[i], theta, gas_porosity(jp_[i], mat.initial_porosity));
-              gas_pressure_[i] = jp_gas / j;
-              kirchhoff_pressure += jp_gas;
-            }
-            Real sat = 0;
-            if (wet) {
-              sat = water_[i] / (mat.water.water_density * volume);
-              saturation_[i] = sat;
-              kirchhoff_pressure += j * mat.water.pressure(sat);
-              water_src_[i] = -mat.water.evaporation_flux(theta, sat) * air_area_[i];
-              water_vec_[i] = -(volume * mat.water.diffusion_coefficient(theta) * mat.water.water_density * flux_scale) * grad_s_[i];
-            }
-            tau.diagonal().array() -= kirchhoff_pressure;
-            heat_src_[i] = exchange_t_[i] - exchange_[i] * temperature_[i];
-            heat_vec_[i] = -(volume * mat.conductivity * flux_scale) * grad_theta_[i];
-          }
-          tau_diag_[i] = tau.diagonal();
-          tau_off_[i] = Vec3(tau(0, 1), tau(0, 2), tau(1, 2));
-        }, 1024);
-      }, mat.plastic);
-    }, mat.elastic);
+    std::visit(
+        [&](const auto& elastic) {
+          std::visit(
+              [&](const auto& plastic_law) {
+                using P = std::decay_t<decltype(plastic_law)>;
+                const std::vector<std::uint32_t>& members = material_members_[mi];
+                parallel_for(
+                    members.size(),
+                    [&](std::size_t k) {
+                      const std::size_t i = members[k];
+                      const Real theta = temperature_[i];
+                      Mat3 f = deformation_gradient(i);
+                      Svd3 s = svd3(f);
+                      if constexpr (!std::is_same_v<P, NoPlasticity>) {
+                        P law = plastic_law;
+                        if (heat && mat.setting) {
+                          if (!gelatinized_[i] && theta >= mat.setting->set_temperature)
+                            gelatinized_[i] = 1, jp_set_[i] = jp_[i];
+                          const Real te = mat.setting->effective_temperature(theta, gelatinized_[i] != 0);
+                          law.yield_stress = mat.setting->yield_stress(te);
+                          law.viscosity = mat.setting->viscosity(te);
+                        }
+                        if constexpr (std::is_same_v<P, CamClay>) {
+                          if (heat && st.baseline)
+                            law.cohesion_slope = 0;  // baseline: no porosity in the yield surface
+                          // τ_y is a Cauchy stress: in Kirchhoff stress the surface grows with the
+                          // plastic dilation, so gas (whose Kirchhoff pressure n R θ / n_p barely
+                          // falls as pores grow) expands a dough to a finite size.
+                          law.yield_stress *= jp_[i];
+                          // Brittle set crust (a departure, docs/physics.md): dilation after setting weakens it.
+                          if (wet && mat.setting && gelatinized_[i]) {
+                            const Real water_lost =
+                                1 - water_[i] / (mat.water.saturation * mat.water.water_density * volume0_[i]);
+                            law.yield_stress *= mat.setting->softening_factor(jp_[i], jp_set_[i], water_lost);
+                          }
+                        }
+                        const Vec3 trial = s.sigma;
+                        s = return_map(law, mat.lame, dt, jp_[i], s);
+                        if (s.sigma != trial) {
+                          f = compose(s);
+                          set_deformation_gradient(i, f);
+                        }
+                        jp_[i] = j_[i] / s.sigma.prod();
+                      }
+                      Mat3 tau = kirchhoff_stress(elastic, f, s);
+                      if (heat) {
+                        const Real j = j_[i], volume = j * volume0_[i];
+                        Real kirchhoff_pressure = 0;
+                        if (expansion != 0) {
+                          const Real theta_ref = setup_.bodies[body_[i]].temperature;
+                          kirchhoff_pressure += j * expansion * (theta - theta_ref);
+                          // Spec 2: ρ c Dθ/Dt = −c λ θ_K ∇·v (mechanical time; ∇·v = tr C).
+                          const Real div_v = c0_[i].x() + c1_[i].y() + c2_[i].z();
+                          temperature_[i] -=
+                              dt * expansion * (theta + kZeroCelsius) * div_v * volume / heat_capacity_[i];
+                        }
+                        if (gas) {
+                          co2_[i] = mat.gas.generated(co2_[i], dtb, theta, mat.density);
+                          const Real jp_gas =
+                              Leavening::kirchhoff_pressure(co2_[i], theta, gas_porosity(jp_[i], mat.initial_porosity));
+                          gas_pressure_[i] = jp_gas / j;
+                          kirchhoff_pressure += jp_gas;
+                        }
+                        Real sat = 0;
+                        if (wet) {
+                          sat = water_[i] / (mat.water.water_density * volume);
+                          saturation_[i] = sat;
+                          kirchhoff_pressure += j * mat.water.pressure(sat);
+                          water_src_[i] = -mat.water.evaporation_flux(theta, sat) * air_area_[i];
+                          water_vec_[i] = -(volume * mat.water.diffusion_coefficient(theta) * mat.water.water_density *
+                                            flux_scale) *
+                                          grad_s_[i];
+                        }
+                        tau.diagonal().array() -= kirchhoff_pressure;
+                        heat_src_[i] = exchange_t_[i] - exchange_[i] * temperature_[i];
+                        heat_vec_[i] = -(volume * mat.conductivity * flux_scale) * grad_theta_[i];
+                      }
+                      tau_diag_[i] = tau.diagonal();
+                      tau_off_[i] = Vec3(tau(0, 1), tau(0, 2), tau(1, 2));
+                    },
+                    1024);
+              },
+              mat.plastic);
+        },
+        mat.elastic);
   }
 }
 
@@ -796,23 +840,26 @@ void MpmSolver::phase_heat_implicit(Real dt) {
   std::vector<Real>& mass = implicit_mass_;
   // Particle-to-node operator: y_i = Σ_p w (a_p + g_p · o), per colour so no two threads share a node.
   auto scatter = [&](std::vector<Real>& y, auto&& particle_terms) {
-    for_each_by_colour(colour_blocks_, block_start_, order_, x_, origin, inv_dx_, [&](std::uint32_t p, const Axis& ax, const Axis& ay, const Axis& az) {
-      Real a;
-      Vec3 gv;
-      Real diag_a, diag_g;
-      particle_terms(p, ax, ay, az, a, gv, diag_a, diag_g);
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) {
-          const std::size_t row = std::size_t(ax.base + i) * syz + std::size_t(ay.base + j) * nz + az.base;
-          for (int kk = 0; kk < 3; ++kk) {
-            const Vec3 o(i - ax.frac, j - ay.frac, kk - az.frac);
-            const Real w = ax.w[i] * ay.w[j] * az.w[kk];
-            y[row + kk] += w * (a + gv.dot(o)) + w * w * (diag_a + diag_g * o.squaredNorm());
-          }
-        }
-    });
+    for_each_by_colour(colour_blocks_, block_start_, order_, x_, origin, inv_dx_,
+                       [&](std::uint32_t p, const Axis& ax, const Axis& ay, const Axis& az) {
+                         Real a;
+                         Vec3 gv;
+                         Real diag_a, diag_g;
+                         particle_terms(p, ax, ay, az, a, gv, diag_a, diag_g);
+                         for (int i = 0; i < 3; ++i)
+                           for (int j = 0; j < 3; ++j) {
+                             const std::size_t row =
+                                 std::size_t(ax.base + i) * syz + std::size_t(ay.base + j) * nz + az.base;
+                             for (int kk = 0; kk < 3; ++kk) {
+                               const Vec3 o(i - ax.frac, j - ay.frac, kk - az.frac);
+                               const Real w = ax.w[i] * ay.w[j] * az.w[kk];
+                               y[row + kk] += w * (a + gv.dot(o)) + w * w * (diag_a + diag_g * o.squaredNorm());
+                             }
+                           }
+                       });
   };
-  auto gather = [&](const std::vector<Real>& x, const Axis& ax, const Axis& ay, const Axis& az, Real& value, Vec3& grad) {
+  auto gather = [&](const std::vector<Real>& x, const Axis& ax, const Axis& ay, const Axis& az, Real& value,
+                    Vec3& grad) {
     value = 0;
     grad.setZero();
     for (int i = 0; i < 3; ++i)
@@ -829,15 +876,17 @@ void MpmSolver::phase_heat_implicit(Real dt) {
   auto conductance = [&](std::uint32_t p) { return j_[p] * volume0_[p] * setup_.materials[material_[p]].conductivity; };
   // A x restricted to the active nodes.
   auto apply = [&](const std::vector<Real>& x, std::vector<Real>& y) {
-    parallel_for(nodes, [&](std::size_t k) { y[k] = mass[k] > 0 ? mass[k] / dtb * x[k] : 0; }, 1 << 14);
-    scatter(y, [&](std::uint32_t p, const Axis& ax, const Axis& ay, const Axis& az, Real& a, Vec3& gv, Real& da, Real& dg) {
-      Real value;
-      Vec3 grad;
-      gather(x, ax, ay, az, value, grad);
-      a = exchange_[p] * value;
-      gv = conductance(p) * gscale * grad;
-      da = dg = 0;
-    });
+    parallel_for(
+        nodes, [&](std::size_t k) { y[k] = mass[k] > 0 ? mass[k] / dtb * x[k] : 0; }, 1 << 14);
+    scatter(
+        y, [&](std::uint32_t p, const Axis& ax, const Axis& ay, const Axis& az, Real& a, Vec3& gv, Real& da, Real& dg) {
+          Real value;
+          Vec3 grad;
+          gather(x, ax, ay, az, value, grad);
+          a = exchange_[p] * value;
+          gv = conductance(p) * gscale * grad;
+          da = dg = 0;
+        });
   };
   // Node vectors of the solve, kept between steps (no per-step allocation once sized).
   ImplicitHeat& h = implicit_heat_;
@@ -855,31 +904,51 @@ void MpmSolver::phase_heat_implicit(Real dt) {
     da = exchange_[p];
     dg = conductance(p) * gscale * gscale;
   });
-  parallel_for(nodes, [&](std::size_t k) {
-    if (mass[k] > 0) {
-      const Real theta_n = heat_grid_[k].f[1] - heat_grid_[k].f[0];
-      rhs[k] += mass[k] / dtb * theta_n;
-      diag[k] += mass[k] / dtb;
-      x[k] = theta_n;
-    } else {
-      rhs[k] = 0, diag[k] = 1;
-    }
-  }, 1 << 14);
+  parallel_for(
+      nodes,
+      [&](std::size_t k) {
+        if (mass[k] > 0) {
+          const Real theta_n = heat_grid_[k].f[1] - heat_grid_[k].f[0];
+          rhs[k] += mass[k] / dtb * theta_n;
+          diag[k] += mass[k] / dtb;
+          x[k] = theta_n;
+        } else {
+          rhs[k] = 0, diag[k] = 1;
+        }
+      },
+      1 << 14);
   auto dot = [&](const std::vector<Real>& a, const std::vector<Real>& b) {
     return deterministic_sum(nodes, [&](std::size_t k) { return a[k] * b[k]; });
   };
   apply(x, q);
-  parallel_for(nodes, [&](std::size_t k) { r[k] = mass[k] > 0 ? rhs[k] - q[k] : 0; z[k] = r[k] / diag[k]; d[k] = z[k]; }, 1 << 14);
+  parallel_for(
+      nodes,
+      [&](std::size_t k) {
+        r[k] = mass[k] > 0 ? rhs[k] - q[k] : 0;
+        z[k] = r[k] / diag[k];
+        d[k] = z[k];
+      },
+      1 << 14);
   Real rz = dot(r, z);
   const Real rhs_norm = std::sqrt(dot(rhs, rhs));
-  for (int it = 0; it < setup_.settings.heat_max_iterations && std::sqrt(dot(r, r)) > setup_.settings.heat_tolerance * rhs_norm; ++it) {
+  for (int it = 0;
+       it < setup_.settings.heat_max_iterations && std::sqrt(dot(r, r)) > setup_.settings.heat_tolerance * rhs_norm;
+       ++it) {
     apply(d, q);
     const Real alpha = rz / dot(d, q);
-    parallel_for(nodes, [&](std::size_t k) { x[k] += alpha * d[k]; r[k] -= alpha * q[k]; z[k] = r[k] / diag[k]; }, 1 << 14);
+    parallel_for(
+        nodes,
+        [&](std::size_t k) {
+          x[k] += alpha * d[k];
+          r[k] -= alpha * q[k];
+          z[k] = r[k] / diag[k];
+        },
+        1 << 14);
     const Real rz_new = dot(r, z);
     const Real beta = rz_new / rz;
     rz = rz_new;
-    parallel_for(nodes, [&](std::size_t k) { d[k] = z[k] + beta * d[k]; }, 1 << 14);
+    parallel_for(
+        nodes, [&](std::size_t k) { d[k] = z[k] + beta * d[k]; }, 1 << 14);
   }
   const Real energy = deterministic_reduce(
       nodes, Real(0),
@@ -913,16 +982,18 @@ void MpmSolver::check_state() {
       },
       [](std::size_t a, std::size_t b) { return std::min(a, b); });
   if (bad == n) return;
-  const char* what = !x_[bad].allFinite()               ? "position"
-                     : !v_[bad].allFinite()             ? "velocity"
-                     : !(j_[bad] > 0)                   ? "J (volume ratio)"
-                     : !setup_.domain.contains(x_[bad]) ? "position (left the domain)"
+  const char* what = !x_[bad].allFinite()                ? "position"
+                     : !v_[bad].allFinite()              ? "velocity"
+                     : !(j_[bad] > 0)                    ? "J (volume ratio)"
+                     : !setup_.domain.contains(x_[bad])  ? "position (left the domain)"
                      : !std::isfinite(temperature_[bad]) ? "temperature"
                                                          : "water mass";
-  throw SimulationError(fmt::format("mpm step {} (t = {:.6g} s): particle {} has an invalid {}: x = ({:.4g}, {:.4g}, {:.4g}), v = ({:.4g}, {:.4g}, {:.4g}), J = {:.4g}, "
-                                    "temperature = {:.4g} degC, water = {:.4g} kg",
-                                    steps_ + 1, time_, id_[bad], what, x_[bad].x(), x_[bad].y(), x_[bad].z(), v_[bad].x(), v_[bad].y(), v_[bad].z(), j_[bad],
-                                    temperature_[bad], water_[bad]));
+  throw SimulationError(
+      fmt::format("mpm step {} (t = {:.6g} s): particle {} has an invalid {}: x = ({:.4g}, {:.4g}, {:.4g}), v = "
+                  "({:.4g}, {:.4g}, {:.4g}), J = {:.4g}, "
+                  "temperature = {:.4g} degC, water = {:.4g} kg",
+                  steps_ + 1, time_, id_[bad], what, x_[bad].x(), x_[bad].y(), x_[bad].z(), v_[bad].x(), v_[bad].y(),
+                  v_[bad].z(), j_[bad], temperature_[bad], water_[bad]));
 }
 
 std::vector<Real> MpmSolver::sample(const Vec3& x, const std::vector<std::string>& quantities) const {
@@ -939,24 +1010,37 @@ std::vector<Real> MpmSolver::sample(const Vec3& x, const std::vector<std::string
       out.push_back(std::numeric_limits<Real>::quiet_NaN());
       continue;
     }
-    if (q == "temperature") out.push_back(temperature_[best]);
-    else if (q == "speed") out.push_back(v_[best].norm());
-    else if (q == "velocity_x") out.push_back(v_[best].x());
-    else if (q == "velocity_y") out.push_back(v_[best].y());
-    else if (q == "velocity_z") out.push_back(v_[best].z());
-    else if (q == "J") out.push_back(j_[best]);
-    else if (q == "saturation") out.push_back(saturation_[best]);
-    else if (q == "water_mass") out.push_back(water_[best]);
-    else if (q == "co2") out.push_back(co2_[best]);
-    else if (q == "gas_pressure") out.push_back(gas_pressure_[best]);
-    else if (q == "plastic_J") out.push_back(jp_[best]);
-    else throw InputError("probes", "unknown probe quantity '" + q + "' for the MPM solver");
+    if (q == "temperature")
+      out.push_back(temperature_[best]);
+    else if (q == "speed")
+      out.push_back(v_[best].norm());
+    else if (q == "velocity_x")
+      out.push_back(v_[best].x());
+    else if (q == "velocity_y")
+      out.push_back(v_[best].y());
+    else if (q == "velocity_z")
+      out.push_back(v_[best].z());
+    else if (q == "J")
+      out.push_back(j_[best]);
+    else if (q == "saturation")
+      out.push_back(saturation_[best]);
+    else if (q == "water_mass")
+      out.push_back(water_[best]);
+    else if (q == "co2")
+      out.push_back(co2_[best]);
+    else if (q == "gas_pressure")
+      out.push_back(gas_pressure_[best]);
+    else if (q == "plastic_J")
+      out.push_back(jp_[best]);
+    else
+      throw InputError("probes", "unknown probe quantity '" + q + "' for the MPM solver");
   }
   return out;
 }
 
 std::vector<std::string> MpmSolver::probe_quantities() const {
-  return {"temperature", "speed", "velocity_x", "velocity_y", "velocity_z", "J", "plastic_J", "saturation", "water_mass", "co2", "gas_pressure"};
+  return {"temperature", "speed",      "velocity_x", "velocity_y", "velocity_z",  "J",
+          "plastic_J",   "saturation", "water_mass", "co2",        "gas_pressure"};
 }
 
 Real MpmSolver::total_water() const {
@@ -1035,11 +1119,16 @@ std::vector<std::pair<std::string, double>> MpmSolver::checkpoint_state() const 
 
 void MpmSolver::restore_state(const std::vector<std::pair<std::string, double>>& state) {
   for (const auto& [name, value] : state) {
-    if (name == "time") time_ = value;
-    else if (name == "steps") steps_ = std::size_t(value);
-    else if (name == "evaporated") budget_.evaporated = value;
-    else if (name == "clamped") budget_.clamped = value;
-    else if (name == "heat_in") budget_.heat_in = value;
+    if (name == "time")
+      time_ = value;
+    else if (name == "steps")
+      steps_ = std::size_t(value);
+    else if (name == "evaporated")
+      budget_.evaporated = value;
+    else if (name == "clamped")
+      budget_.clamped = value;
+    else if (name == "heat_in")
+      budget_.heat_in = value;
   }
   // The particles come back in the order they had; the material groups index them.
   material_members_.assign(setup_.materials.size(), {});

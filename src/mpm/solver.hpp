@@ -28,10 +28,10 @@ struct Material {
   ElasticLaw elastic = Hencky{};
   PlasticLaw plastic = NoPlasticity{};
   // Thermomechanics (spec 2–3).
-  Real specific_heat = 2800;     // c_v, J/(kg K)
-  Real conductivity = 0.4;       // κ, W/(m K)
-  Real thermal_expansion = 0;    // c of σ_s = τ/J − c λ (θ − θ_ref) I, 1/K
-  Real initial_porosity = 0;     // n₀ of the gas porosity
+  Real specific_heat = 2800;   // c_v, J/(kg K)
+  Real conductivity = 0.4;     // κ, W/(m K)
+  Real thermal_expansion = 0;  // c of σ_s = τ/J − c λ (θ − θ_ref) I, 1/K
+  Real initial_porosity = 0;   // n₀ of the gas porosity
   Moisture water;
   Leavening gas;
   std::optional<SettingCurves> setting;  // temperature-dependent τ_y, η (Hencky + plasticity only)
@@ -71,7 +71,7 @@ struct Settings {
   int particles_per_cell = 8;  // initial sampling: a lattice of ppc^(1/3) per axis
   Real cfl = 0.4;
   Real max_dt = 1e-3;
-  int reorder_every = 16;      // steps between reordering particle memory by grid block
+  int reorder_every = 16;  // steps between reordering particle memory by grid block
 };
 
 struct Setup {
@@ -83,15 +83,15 @@ struct Setup {
   Real domain_friction = 0.0;  // Coulomb μ of the domain walls (separating contact)
   Vec3 gravity = Vec3(0, -9.81, 0);
   PiecewiseLinear air_temperature = PiecewiseLinear::constant(20);  // °C over bake time
-  Real heat_transfer_coefficient = 10;  // β of the air, W/(m² K)
-  BrowningKinetics browning;  // crust colour from the temperature history
+  Real heat_transfer_coefficient = 10;                              // β of the air, W/(m² K)
+  BrowningKinetics browning;                                        // crust colour from the temperature history
 };
 
 // Running totals of the mixture (bake time, SI units).
 struct MixtureBudget {
-  Real evaporated = 0;       // kg that left through the boundary
-  Real clamped = 0;          // kg the evaporation asked for beyond what a node held (not removed)
-  Real heat_in = 0;          // J through the boundary (air and hot colliders)
+  Real evaporated = 0;  // kg that left through the boundary
+  Real clamped = 0;     // kg the evaporation asked for beyond what a node held (not removed)
+  Real heat_in = 0;     // J through the boundary (air and hot colliders)
 };
 
 class MpmSolver final : public Solver {
@@ -128,7 +128,7 @@ class MpmSolver final : public Solver {
   Real bake_time() const { return time_ * setup_.settings.bake_time_scale; }
   const MixtureBudget& budget() const { return budget_; }
   Real total_water() const;
-  Real total_co2() const;        // mol
+  Real total_co2() const;          // mol
   Real total_heat_energy() const;  // Σ m c θ, J (θ in °C)
   std::vector<std::pair<std::string, Real>> frame_quantities() const override;
 
@@ -142,8 +142,10 @@ class MpmSolver final : public Solver {
   void phase_heat_implicit(Real dt);
   void phase_browning(Real dt);
   void check_state();
-  template <bool kThermal> void p2g(Real dt);
-  template <bool kThermal> void g2p(Real dt);
+  template <bool kThermal>
+  void p2g(Real dt);
+  template <bool kThermal>
+  void g2p(Real dt);
   void push_out_of_colliders(std::size_t p);
   std::array<Real, 2> flip_bounds_{};  // coldest, hottest temperature before the step (G2P)
 
@@ -174,15 +176,15 @@ class MpmSolver final : public Solver {
   std::vector<Real>& co2_;            // n_g, mol per m³ of initial volume
   std::vector<Real>& gas_pressure_;   // P_g, Pa
   std::vector<std::int32_t>& gelatinized_;
-  std::vector<Vec3>& grad_theta_;     // ∇θ from the grid, K/m
-  std::vector<Vec3>& grad_s_;         // ∇s from the grid, 1/m
-  std::vector<Real>& exchange_;       // Σ S β over the particle's boundary share, W/K
-  std::vector<Real>& exchange_t_;     // Σ S β θ_amb, W
-  std::vector<Real>& air_area_;       // area facing the air (evaporation), m²
-  std::vector<Real>& heat_src_;       // P2G heat terms: scalar S β (θ_amb − θ), W
-  std::vector<Vec3>& heat_vec_;       //   and −V κ ∇θ · 4/Δx, W
-  std::vector<Real>& water_src_;      // P2G water terms: −evaporation, kg/s
-  std::vector<Vec3>& water_vec_;      //   and V q_w · 4/Δx, kg/s
+  std::vector<Vec3>& grad_theta_;  // ∇θ from the grid, K/m
+  std::vector<Vec3>& grad_s_;      // ∇s from the grid, 1/m
+  std::vector<Real>& exchange_;    // Σ S β over the particle's boundary share, W/K
+  std::vector<Real>& exchange_t_;  // Σ S β θ_amb, W
+  std::vector<Real>& air_area_;    // area facing the air (evaporation), m²
+  std::vector<Real>& heat_src_;    // P2G heat terms: scalar S β (θ_amb − θ), W
+  std::vector<Vec3>& heat_vec_;    //   and −V κ ∇θ · 4/Δx, W
+  std::vector<Real>& water_src_;   // P2G water terms: −evaporation, kg/s
+  std::vector<Vec3>& water_vec_;   //   and V q_w · 4/Δx, kg/s
   std::vector<std::int32_t>& material_;
   std::vector<std::int32_t>& body_;
   std::vector<std::int32_t>& id_;
@@ -212,7 +214,7 @@ class MpmSolver final : public Solver {
   std::vector<std::uint32_t> block_start_;  // per block, into order_ (size blocks + 1)
   std::vector<std::uint32_t> block_key_;
   std::vector<std::vector<std::uint32_t>> colour_blocks_;  // non-empty blocks per colour
-  std::vector<std::uint32_t> block_fill_;  // counting-sort cursors, reused
+  std::vector<std::uint32_t> block_fill_;                  // counting-sort cursors, reused
   // Particle indices of each material, rebuilt when particle memory is
   // reordered: the constitutive phase dispatches once per material group.
   std::vector<std::vector<std::uint32_t>> material_members_;

@@ -16,7 +16,8 @@ inline Real bubble_volume_ratio(Real temperature_c, Real initial_temperature_c) 
 
 // Eq 3.48 with Eq 3.49–3.50: P = B (ρ/ρ0) (V_b − 1). The throttling factor uses
 // the particle's SPH density ρ (Eq 3.48), not the bubble density.
-inline Real bubble_pressure(Real tait_b, Real density, Real rest_density, Real temperature_c, Real initial_temperature_c) {
+inline Real bubble_pressure(Real tait_b, Real density, Real rest_density, Real temperature_c,
+                            Real initial_temperature_c) {
   return tait_b * (density / rest_density) * (bubble_volume_ratio(temperature_c, initial_temperature_c) - 1.0);
 }
 

@@ -13,7 +13,6 @@
 
 namespace bakesim {
 
-
 struct MaxwellRates {
   Mat3 strain_rate_deviator;  // D'
   Mat3 rotation;              // R = W S − S W
@@ -29,7 +28,8 @@ inline MaxwellRates maxwell_rates(const Mat3& stress, const Mat3& velocity_gradi
 }
 
 // dS/dt (Eq 3.20).
-inline Mat3 maxwell_stress_rate(const Mat3& stress, const Mat3& velocity_gradient, Real elasticity, Real relaxation_time) {
+inline Mat3 maxwell_stress_rate(const Mat3& stress, const Mat3& velocity_gradient, Real elasticity,
+                                Real relaxation_time) {
   const MaxwellRates r = maxwell_rates(stress, velocity_gradient);
   return r.rotation + elasticity * r.strain_rate_deviator - stress / relaxation_time;
 }
@@ -38,8 +38,8 @@ inline Mat3 maxwell_stress_rate(const Mat3& stress, const Mat3& velocity_gradien
 // (exponential integrator; the forcing R + μ_e D' is held over the step):
 //   S(t+dt) = e^{−dt/λ} S + λ (1 − e^{−dt/λ}) (R + μ_e D').
 // Exact for pure relaxation (S decays as e^{−t/λ}) and stable for any dt/λ.
-inline Mat3 maxwell_stress_step(const Mat3& stress, const Mat3& velocity_gradient, Real elasticity, Real relaxation_time,
-                                Real dt) {
+inline Mat3 maxwell_stress_step(const Mat3& stress, const Mat3& velocity_gradient, Real elasticity,
+                                Real relaxation_time, Real dt) {
   const MaxwellRates r = maxwell_rates(stress, velocity_gradient);
   const Real x = dt / relaxation_time;
   const Real decay = std::exp(-x);

@@ -25,9 +25,9 @@ inline Real gas_porosity(Real plastic_j, Real initial_porosity) {
 //   dn/dt = a · ρ₀ · exp(−((θ − θ_r)/Δθ)²)       n: mol per m³ of initial volume
 //   P = n R θ_K / (J n_p)                         gauge pressure (n starts at 0)
 struct Leavening {
-  Real rate = 0;                // a, mol/(kg s) of bake time
-  Real peak_temperature = 40;   // θ_r, °C
-  Real width = 20;              // Δθ, °C
+  Real rate = 0;               // a, mol/(kg s) of bake time
+  Real peak_temperature = 40;  // θ_r, °C
+  Real width = 20;             // Δθ, °C
   // Moles of CO2 the leavener can give per kg of material (an addition: the
   // spec's Gaussian never runs out, so a cake cooling back through θ_r after
   // the oven would rise again). Infinite: the spec.
@@ -64,7 +64,9 @@ struct Moisture {
   bool active() const { return saturation > 0; }
   static Real temperature_factor(Real temperature) { return std::max(temperature, Real(0)) / 100.0; }
   Real diffusion_coefficient(Real temperature) const { return diffusivity * temperature_factor(temperature); }
-  Real evaporation_flux(Real temperature, Real s) const { return evaporation_rate * temperature_factor(temperature) * s; }
+  Real evaporation_flux(Real temperature, Real s) const {
+    return evaporation_rate * temperature_factor(temperature) * s;
+  }
   Real pressure(Real s) const { return stiffness * (s - saturation); }
 };
 
@@ -80,7 +82,7 @@ struct SettingCurves {
   // J^P_set, its value at setting. b ramps from 0 to 1 as the fraction d of its
   // water the particle has lost goes from d_b to 2 d_b (a dried, glassy crust
   // is brittle; the moist crumb below keeps its strength). k = 0: the paper.
-  Real set_softening = 0;        // k
+  Real set_softening = 0;          // k
   Real brittle_water_loss = 0.05;  // d_b
   Real softening_factor(Real plastic_j, Real plastic_j_at_set, Real water_lost) const {
     if (set_softening <= 0 || plastic_j <= plastic_j_at_set || water_lost <= brittle_water_loss) return 1;

@@ -27,7 +27,8 @@ std::vector<double> nice_ticks(double lo, double hi, int target) {
       break;
     }
   std::vector<double> ticks;
-  for (double t = std::ceil(lo / step - 1e-9) * step; t <= hi + 1e-9 * step; t += step) ticks.push_back(std::abs(t) < 1e-12 * step ? 0.0 : t);
+  for (double t = std::ceil(lo / step - 1e-9) * step; t <= hi + 1e-9 * step; t += step)
+    ticks.push_back(std::abs(t) < 1e-12 * step ? 0.0 : t);
   return ticks;
 }
 
@@ -58,7 +59,7 @@ std::string tick_label(double v, double step) {
   return fmt::format("{:.{}f}", v, std::min(decimals, 6));
 }
 
-const Rgb kColours[] = {{31, 119, 180}, {214, 39, 40}, {44, 160, 44}, {255, 127, 14}, {148, 103, 189},
+const Rgb kColours[] = {{31, 119, 180}, {214, 39, 40},   {44, 160, 44},   {255, 127, 14}, {148, 103, 189},
                         {140, 86, 75},  {227, 119, 194}, {127, 127, 127}, {188, 189, 34}, {23, 190, 207}};
 
 }  // namespace
@@ -108,7 +109,8 @@ Image plot_lines(const PlotSpec& spec, const TextRenderer& text) {
       if (s.dashed && std::fmod(dash, 16.0) > 9.0) continue;
       segment(img, x0, y0, x1, y1, 2.2, c);
     }
-    if (s.x.size() == 1 && std::isfinite(s.x[0] + s.y[0])) segment(img, X(s.x[0]), Y(s.y[0]), X(s.x[0]), Y(s.y[0]), 5, c);
+    if (s.x.size() == 1 && std::isfinite(s.x[0] + s.y[0]))
+      segment(img, X(s.x[0]), Y(s.y[0]), X(s.x[0]), Y(s.y[0]), 5, c);
   }
   // Legend, top-left inside the axes.
   int ly = top + 18;
@@ -179,7 +181,9 @@ std::vector<fs::path> plot_run(const fs::path& run_dir) {
     written.push_back(dir / file);
   };
   auto starts = [](const std::string& s, const std::string& p) { return s.rfind(p, 0) == 0; };
-  auto ends = [](const std::string& s, const std::string& p) { return s.size() >= p.size() && s.compare(s.size() - p.size(), p.size(), p) == 0; };
+  auto ends = [](const std::string& s, const std::string& p) {
+    return s.size() >= p.size() && s.compare(s.size() - p.size(), p.size(), p) == 0;
+  };
 
   PlotSpec temps{"Temperatures", "", "temperature (°C)", {}};
   PlotSpec volume{"Volume (relative to the first frame)", "", "V / V0", {}};

@@ -50,8 +50,10 @@ struct RayScene {
 
   unsigned add_triangles(const std::vector<Vec3f>& v, const std::vector<std::array<std::uint32_t, 3>>& t) {
     RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), v.size()));
-    auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), t.size()));
+    auto* vb = static_cast<float*>(
+        rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), v.size()));
+    auto* ib = static_cast<unsigned*>(
+        rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), t.size()));
     for (std::size_t i = 0; i < v.size(); ++i) vb[3 * i] = v[i].x(), vb[3 * i + 1] = v[i].y(), vb[3 * i + 2] = v[i].z();
     for (std::size_t i = 0; i < t.size(); ++i) ib[3 * i] = t[i][0], ib[3 * i + 1] = t[i][1], ib[3 * i + 2] = t[i][2];
     rtcCommitGeometry(g);
@@ -61,9 +63,11 @@ struct RayScene {
   }
   unsigned add_spheres(const std::vector<Vec3>& p, float radius) {
     RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
-    auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), p.size()));
+    auto* vb = static_cast<float*>(
+        rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), p.size()));
     for (std::size_t i = 0; i < p.size(); ++i)
-      vb[4 * i] = float(p[i].x()), vb[4 * i + 1] = float(p[i].y()), vb[4 * i + 2] = float(p[i].z()), vb[4 * i + 3] = radius;
+      vb[4 * i] = float(p[i].x()), vb[4 * i + 1] = float(p[i].y()), vb[4 * i + 2] = float(p[i].z()),
+             vb[4 * i + 3] = radius;
     rtcCommitGeometry(g);
     const unsigned id = rtcAttachGeometry(scene, g);
     rtcReleaseGeometry(g);
@@ -93,7 +97,6 @@ std::uint8_t linear_to_srgb(float v) {
   return std::uint8_t(std::lround(255.0f * std::pow(std::clamp(v, 0.0f, 1.0f), 1.0f / 2.2f)));
 }
 
-
 void orthonormal_basis(const Vec3f& n, Vec3f& t, Vec3f& b) {
   t = (std::abs(n.x()) > 0.5f ? Vec3f(0, 1, 0) : Vec3f(1, 0, 0)).cross(n).normalized();
   b = n.cross(t);
@@ -113,7 +116,8 @@ bool occluded(RTCScene scene, const Vec3f& o, const Vec3f& d, float far) {
 void draw_colour_bar(Image& img, const ColourBar& bar, const TextRenderer& text) {
   const int x0 = img.width - 110, x1 = x0 + 22, y0 = img.height / 5, y1 = img.height * 4 / 5;
   for (int y = y0; y <= y1; ++y) {
-    const auto c = surface::palette_colour(bar.palette, bar.palette_offset + bar.palette_scale * double(y1 - y) / double(y1 - y0));
+    const auto c =
+        surface::palette_colour(bar.palette, bar.palette_offset + bar.palette_scale * double(y1 - y) / double(y1 - y0));
     for (int x = x0; x <= x1; ++x) img.set(x, y, c);
   }
   for (int y = y0 - 1; y <= y1 + 1; ++y) img.set(x0 - 1, y, {40, 40, 40}), img.set(x1 + 1, y, {40, 40, 40});
@@ -133,8 +137,8 @@ void draw_colour_bar(Image& img, const ColourBar& bar, const TextRenderer& text)
 // surface_at(hit, albedo, normal): the object's albedo and shading normal at
 // a hit (a template parameter, so the per-sample call is inlined).
 template <class SurfaceAt>
-Image trace(RayScene& rs, const Aabb& box, const RenderSettings& s, const SurfaceAt& surface_at, const TextRenderer& text,
-            const ColourBar* bar, const std::string& caption) {
+Image trace(RayScene& rs, const Aabb& box, const RenderSettings& s, const SurfaceAt& surface_at,
+            const TextRenderer& text, const ColourBar* bar, const std::string& caption) {
   const float ground_y = float(box.min.y());
   const Real radius = std::max(0.5 * box.extent().norm(), 1e-4);
   {
@@ -142,8 +146,9 @@ Image trace(RayScene& rs, const Aabb& box, const RenderSettings& s, const Surfac
     const float g = float(60 * radius);
     const Vec3 c = 0.5 * (box.min + box.max);
     const float cx = float(c.x()), cz = float(c.z()), y = ground_y - float(1e-4 * radius);
-    rs.ground = rs.add_triangles({Vec3f(cx - g, y, cz - g), Vec3f(cx + g, y, cz - g), Vec3f(cx + g, y, cz + g), Vec3f(cx - g, y, cz + g)},
-                                 {{0, 2, 1}, {0, 3, 2}});
+    rs.ground = rs.add_triangles(
+        {Vec3f(cx - g, y, cz - g), Vec3f(cx + g, y, cz - g), Vec3f(cx + g, y, cz + g), Vec3f(cx - g, y, cz + g)},
+        {{0, 2, 1}, {0, 3, 2}});
   }
   rtcCommitScene(rs.scene);
   const Real aspect = Real(s.width) / Real(s.height);
@@ -166,73 +171,78 @@ Image trace(RayScene& rs, const Aabb& box, const RenderSettings& s, const Surfac
   };
   Image img(s.width, s.height);
   const int n_side = std::max(1, int(std::lround(std::sqrt(double(s.samples)))));
-  parallel_for(std::size_t(s.height), [&](std::size_t row) {
-    const int y = int(row);
-    for (int x = 0; x < s.width; ++x) {
-      Random rng{static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y)};
-      Vec3f sum = Vec3f::Zero();
-      for (int k = 0; k < n_side * n_side; ++k) {
-        const float jx = (float(k % n_side) + rng.uniform()) / float(n_side), jy = (float(k / n_side) + rng.uniform()) / float(n_side);
-        const float px = (2.0f * (float(x) + jx) / float(s.width) - 1.0f) * tan_half * float(aspect);
-        const float py = (1.0f - 2.0f * (float(y) + jy) / float(s.height)) * tan_half;
-        const Vec3f dir = (forward + px * right + py * up).normalized();
-        RTCIntersectContext ctx;
-        rtcInitIntersectContext(&ctx);
-        RTCRayHit rh{};
-        rh.ray.org_x = eye.x(), rh.ray.org_y = eye.y(), rh.ray.org_z = eye.z();
-        rh.ray.dir_x = dir.x(), rh.ray.dir_y = dir.y(), rh.ray.dir_z = dir.z();
-        rh.ray.tnear = 0, rh.ray.tfar = std::numeric_limits<float>::infinity(), rh.ray.mask = 0xffffffffu;
-        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-        rtcIntersect1(rs.scene, &ctx, &rh);
-        if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
-          sum += background(dir);
-          continue;
+  parallel_for(
+      std::size_t(s.height),
+      [&](std::size_t row) {
+        const int y = int(row);
+        for (int x = 0; x < s.width; ++x) {
+          Random rng{static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y)};
+          Vec3f sum = Vec3f::Zero();
+          for (int k = 0; k < n_side * n_side; ++k) {
+            const float jx = (float(k % n_side) + rng.uniform()) / float(n_side),
+                        jy = (float(k / n_side) + rng.uniform()) / float(n_side);
+            const float px = (2.0f * (float(x) + jx) / float(s.width) - 1.0f) * tan_half * float(aspect);
+            const float py = (1.0f - 2.0f * (float(y) + jy) / float(s.height)) * tan_half;
+            const Vec3f dir = (forward + px * right + py * up).normalized();
+            RTCIntersectContext ctx;
+            rtcInitIntersectContext(&ctx);
+            RTCRayHit rh{};
+            rh.ray.org_x = eye.x(), rh.ray.org_y = eye.y(), rh.ray.org_z = eye.z();
+            rh.ray.dir_x = dir.x(), rh.ray.dir_y = dir.y(), rh.ray.dir_z = dir.z();
+            rh.ray.tnear = 0, rh.ray.tfar = std::numeric_limits<float>::infinity(), rh.ray.mask = 0xffffffffu;
+            rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+            rtcIntersect1(rs.scene, &ctx, &rh);
+            if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
+              sum += background(dir);
+              continue;
+            }
+            const Vec3f p = eye + rh.ray.tfar * dir;
+            Vec3f albedo, n;
+            const bool ground = rh.hit.geomID == rs.ground;
+            if (ground) {
+              albedo = Vec3f(0.78f, 0.76f, 0.73f);
+              n = Vec3f(0, 1, 0);
+            } else {
+              surface_at(rh.hit, albedo, n);
+              if (n.dot(dir) > 0) n = -n;
+            }
+            const Vec3f o = p + eps * n;
+            Vec3f t, b;
+            orthonormal_basis(key, t, b);
+            float visible = 0;
+            for (int j = 0; j < s.shadow_samples; ++j) {
+              const float a = 6.2831853f * rng.uniform(), r = 0.06f * std::sqrt(rng.uniform());  // soft: a light of ~7°
+              const Vec3f l = (key + r * (std::cos(a) * t + std::sin(a) * b)).normalized();
+              if (!occluded(rs.scene, o, l, std::numeric_limits<float>::infinity())) visible += 1;
+            }
+            visible /= float(std::max(1, s.shadow_samples));
+            Vec3f nt, nb;
+            orthonormal_basis(n, nt, nb);
+            float open = 0;
+            for (int j = 0; j < s.occlusion_samples; ++j) {
+              const float a = 6.2831853f * rng.uniform(), r2 = rng.uniform(), r = std::sqrt(r2);
+              const Vec3f d = (r * std::cos(a) * nt + r * std::sin(a) * nb + std::sqrt(1 - r2) * n).normalized();
+              if (!occluded(rs.scene, o, d, ao_reach)) open += 1;
+            }
+            open = s.occlusion_samples > 0 ? open / float(s.occlusion_samples) : 1.0f;
+            Vec3f light = key_colour * (std::max(0.0f, n.dot(key)) * visible) +
+                          fill_colour * std::max(0.0f, n.dot(fill)) + sky_colour * ((0.6f + 0.4f * n.y()) * open);
+            Vec3f c = albedo.cwiseProduct(light);
+            if (!ground) {
+              const Vec3f h = (key - dir).normalized();
+              c += Vec3f::Constant(0.12f * visible * std::pow(std::max(0.0f, n.dot(h)), 30.0f));
+            } else {
+              const float haze =
+                  1.0f - std::exp(-float((p - 0.5f * (box.min + box.max).cast<float>()).norm() / (12.0 * radius)));
+              c = c * (1 - haze) + background(dir) * haze;
+            }
+            sum += c;
+          }
+          sum /= float(n_side * n_side);
+          img.set(x, y, {linear_to_srgb(sum.x()), linear_to_srgb(sum.y()), linear_to_srgb(sum.z())});
         }
-        const Vec3f p = eye + rh.ray.tfar * dir;
-        Vec3f albedo, n;
-        const bool ground = rh.hit.geomID == rs.ground;
-        if (ground) {
-          albedo = Vec3f(0.78f, 0.76f, 0.73f);
-          n = Vec3f(0, 1, 0);
-        } else {
-          surface_at(rh.hit, albedo, n);
-          if (n.dot(dir) > 0) n = -n;
-        }
-        const Vec3f o = p + eps * n;
-        Vec3f t, b;
-        orthonormal_basis(key, t, b);
-        float visible = 0;
-        for (int j = 0; j < s.shadow_samples; ++j) {
-          const float a = 6.2831853f * rng.uniform(), r = 0.06f * std::sqrt(rng.uniform());  // soft: a light of ~7°
-          const Vec3f l = (key + r * (std::cos(a) * t + std::sin(a) * b)).normalized();
-          if (!occluded(rs.scene, o, l, std::numeric_limits<float>::infinity())) visible += 1;
-        }
-        visible /= float(std::max(1, s.shadow_samples));
-        Vec3f nt, nb;
-        orthonormal_basis(n, nt, nb);
-        float open = 0;
-        for (int j = 0; j < s.occlusion_samples; ++j) {
-          const float a = 6.2831853f * rng.uniform(), r2 = rng.uniform(), r = std::sqrt(r2);
-          const Vec3f d = (r * std::cos(a) * nt + r * std::sin(a) * nb + std::sqrt(1 - r2) * n).normalized();
-          if (!occluded(rs.scene, o, d, ao_reach)) open += 1;
-        }
-        open = s.occlusion_samples > 0 ? open / float(s.occlusion_samples) : 1.0f;
-        Vec3f light = key_colour * (std::max(0.0f, n.dot(key)) * visible) + fill_colour * std::max(0.0f, n.dot(fill)) +
-                      sky_colour * ((0.6f + 0.4f * n.y()) * open);
-        Vec3f c = albedo.cwiseProduct(light);
-        if (!ground) {
-          const Vec3f h = (key - dir).normalized();
-          c += Vec3f::Constant(0.12f * visible * std::pow(std::max(0.0f, n.dot(h)), 30.0f));
-        } else {
-          const float haze = 1.0f - std::exp(-float((p - 0.5f * (box.min + box.max).cast<float>()).norm() / (12.0 * radius)));
-          c = c * (1 - haze) + background(dir) * haze;
-        }
-        sum += c;
-      }
-      sum /= float(n_side * n_side);
-      img.set(x, y, {linear_to_srgb(sum.x()), linear_to_srgb(sum.y()), linear_to_srgb(sum.z())});
-    }
-  }, 1);
+      },
+      1);
   if (bar) draw_colour_bar(img, *bar, text);
   if (!caption.empty()) text.draw(img, 16, 30, caption, 18, {30, 30, 30});
   return img;
@@ -240,8 +250,8 @@ Image trace(RayScene& rs, const Aabb& box, const RenderSettings& s, const Surfac
 
 }  // namespace
 
-Image render_mesh(const surface::SurfaceMesh& mesh, const RenderSettings& s, const TextRenderer& text, const ColourBar* bar,
-                  const std::string& caption) {
+Image render_mesh(const surface::SurfaceMesh& mesh, const RenderSettings& s, const TextRenderer& text,
+                  const ColourBar* bar, const std::string& caption) {
   if (mesh.triangles.empty()) throw InputError("render", "the mesh is empty: nothing to draw");
   RayScene rs;
   rs.object = rs.add_triangles(mesh.vertices, mesh.triangles);
@@ -253,7 +263,8 @@ Image render_mesh(const surface::SurfaceMesh& mesh, const RenderSettings& s, con
     const auto& t = mesh.triangles[hit.primID];
     const float w0 = 1 - hit.u - hit.v;
     if (colours)
-      albedo = w0 * srgb_to_linear(mesh.colours[t[0]]) + hit.u * srgb_to_linear(mesh.colours[t[1]]) + hit.v * srgb_to_linear(mesh.colours[t[2]]);
+      albedo = w0 * srgb_to_linear(mesh.colours[t[0]]) + hit.u * srgb_to_linear(mesh.colours[t[1]]) +
+               hit.v * srgb_to_linear(mesh.colours[t[2]]);
     else
       albedo = Vec3f(0.7f, 0.7f, 0.7f);
     if (normals)

@@ -40,7 +40,8 @@ std::string shell_quote(const std::string& s) {
 }  // namespace
 
 RenderRunResult render_run(const fs::path& run_dir, const RenderRunOptions& o) {
-  if (o.mode != "mesh" && o.mode != "particles") throw InputError("render --mode", "must be mesh or particles, got '" + o.mode + "'");
+  if (o.mode != "mesh" && o.mode != "particles")
+    throw InputError("render --mode", "must be mesh or particles, got '" + o.mode + "'");
   const RunDirectory run = open_run(run_dir);
   if (run.frames.empty()) throw InputError(run_dir.string(), "has no particle frames (frames/NNNNN.ply) to render");
   const RunGeometry geometry = run_geometry(run.scene);
@@ -51,7 +52,9 @@ RenderRunResult render_run(const fs::path& run_dir, const RenderRunOptions& o) {
     frames.push_back(run.frames.rbegin()->first);
   } else {
     for (int f : o.frames) {
-      if (!run.frames.count(f)) throw InputError("render --frame", fmt::format("{} has no frame {} (it has {} to {})", run_dir.string(), f, run.frames.begin()->first, run.frames.rbegin()->first));
+      if (!run.frames.count(f))
+        throw InputError("render --frame", fmt::format("{} has no frame {} (it has {} to {})", run_dir.string(), f,
+                                                       run.frames.begin()->first, run.frames.rbegin()->first));
       frames.push_back(f);
     }
   }
@@ -88,7 +91,8 @@ RenderRunResult render_run(const fs::path& run_dir, const RenderRunOptions& o) {
   ensure_directory(out_dir);
   const std::string scene_name = run.scene.value("name", std::string("bake"));
   const double fps = run.scene.contains("time") ? run.scene["time"].value("fps", 30.0) : 30.0;
-  const double bake_scale = run.scene.contains("environment") ? run.scene["environment"].value("bake_time_scale", 1.0) : 1.0;
+  const double bake_scale =
+      run.scene.contains("environment") ? run.scene["environment"].value("bake_time_scale", 1.0) : 1.0;
   const std::string stem = o.mode + "-" + o.colour;
   RenderRunResult result;
   for (int f : frames) {
@@ -99,8 +103,9 @@ RenderRunResult render_run(const fs::path& run_dir, const RenderRunOptions& o) {
     bar.low = range.first, bar.high = range.second;
     bar.palette = colour_palette(o.colour);
     const double bake = f / fps * bake_scale;
-    const std::string caption = fmt::format("{}   frame {}   bake {}", scene_name, f,
-                                            bake >= 120 ? fmt::format("{:.1f} min", bake / 60) : fmt::format("{:.2f} s", bake));
+    const std::string caption =
+        fmt::format("{}   frame {}   bake {}", scene_name, f,
+                    bake >= 120 ? fmt::format("{:.1f} min", bake / 60) : fmt::format("{:.2f} s", bake));
     Image img;
     if (o.mode == "mesh") {
       const surface::SurfaceMesh mesh = frame_mesh(ps, geometry, mesh_opts);
@@ -111,7 +116,8 @@ RenderRunResult render_run(const fs::path& run_dir, const RenderRunOptions& o) {
       ParticleView pv;
       pv.position = ps.vector("position");
       const std::vector<Real> values = particle_values(ps, o.colour);
-      for (Real v : values) pv.colour.push_back(surface::palette_colour(bar.palette, (v - range.first) / (range.second - range.first)));
+      for (Real v : values)
+        pv.colour.push_back(surface::palette_colour(bar.palette, (v - range.first) / (range.second - range.first)));
       pv.radius = 0.5 * geometry.spacing;
       img = render_particles(pv, settings, text, &bar, caption);
     }
@@ -138,7 +144,9 @@ RenderRunResult render_run(const fs::path& run_dir, const RenderRunOptions& o) {
         ParticleView pv;
         pv.position = ps.vector("position");
         const auto range = colour_range(ps, o.colour, o.range);
-        for (Real v : particle_values(ps, o.colour)) pv.colour.push_back(surface::palette_colour(colour_palette(o.colour), (v - range.first) / (range.second - range.first)));
+        for (Real v : particle_values(ps, o.colour))
+          pv.colour.push_back(
+              surface::palette_colour(colour_palette(o.colour), (v - range.first) / (range.second - range.first)));
         pv.radius = 0.5 * geometry.spacing;
         tiles.push_back(render_particles(pv, small, text, nullptr, caption));
       }
@@ -158,7 +166,8 @@ RenderRunResult render_run(const fs::path& run_dir, const RenderRunOptions& o) {
       const double movie_fps = std::clamp(fps, 1.0, 60.0);
       // The concat demuxer takes the pictures in order whatever their numbers.
       std::string list;
-      for (const auto& image : result.images) list += fmt::format("file {}\nduration {}\n", shell_quote(fs::absolute(image).string()), 1.0 / movie_fps);
+      for (const auto& image : result.images)
+        list += fmt::format("file {}\nduration {}\n", shell_quote(fs::absolute(image).string()), 1.0 / movie_fps);
       list += fmt::format("file {}\n", shell_quote(fs::absolute(result.images.back()).string()));
       const fs::path list_file = out_dir / (stem + ".ffconcat.txt");
       write_file_atomic(list_file, list);

@@ -16,13 +16,13 @@
 namespace bakesim::render {
 
 struct RenderRunOptions {
-  std::vector<int> frames;             // empty: the last frame
+  std::vector<int> frames;  // empty: the last frame
   bool all_frames = false;
-  std::string mode = "mesh";           // mesh or particles
+  std::string mode = "mesh";  // mesh or particles
   std::string colour = "browning";
   std::optional<std::pair<Real, Real>> range;
   surface::SurfaceMethod method = surface::SurfaceMethod::levelset;
-  std::optional<int> width, height;    // override the scene's render size
+  std::optional<int> width, height;  // override the scene's render size
   bool movie = false, strip = false;
 };
 

@@ -16,7 +16,9 @@ const char* const kFontPaths[] = {
     "/usr/share/fonts/TTF/DejaVuSans.ttf",
     "/usr/share/fonts/dejavu/DejaVuSans.ttf",
 };
-const stbtt_fontinfo* info_of(const std::vector<unsigned char>& storage) { return reinterpret_cast<const stbtt_fontinfo*>(storage.data()); }
+const stbtt_fontinfo* info_of(const std::vector<unsigned char>& storage) {
+  return reinterpret_cast<const stbtt_fontinfo*>(storage.data());
+}
 
 // UTF-8 to code points (labels carry °, ³, ...); a malformed byte stands for itself.
 std::vector<int> code_points(const std::string& s) {
@@ -31,8 +33,10 @@ std::vector<int> code_points(const std::string& s) {
       ok = (d & 0xC0) == 0x80;
       cp = (cp << 6) | (d & 0x3F);
     }
-    if (!ok) cp = c, i += 1;
-    else i += std::size_t(extra) + 1;
+    if (!ok)
+      cp = c, i += 1;
+    else
+      i += std::size_t(extra) + 1;
     out.push_back(cp);
   }
   return out;
@@ -70,21 +74,24 @@ int TextRenderer::width(const std::string& text, float px) const {
   return int(std::ceil(w));
 }
 
-void TextRenderer::draw(Image& img, int x, int y, const std::string& text, float px, std::array<std::uint8_t, 3> colour, Align align) const {
+void TextRenderer::draw(Image& img, int x, int y, const std::string& text, float px, std::array<std::uint8_t, 3> colour,
+                        Align align) const {
   const int w = width(text, px);
   if (align == Align::centre) x -= w / 2;
   if (align == Align::right) x -= w;
   if (font_.empty()) {
     // Stroke font: quads of 4 vertices (x, y, z, rgba) in units of ~1/10 of the line height.
     std::vector<char> buffer(text.size() * 270 + 1000);
-    const int quads = stb_easy_font_print(0, 0, const_cast<char*>(text.c_str()), nullptr, buffer.data(), int(buffer.size()));
+    const int quads =
+        stb_easy_font_print(0, 0, const_cast<char*>(text.c_str()), nullptr, buffer.data(), int(buffer.size()));
     const float s = px / 10.0f;
     const float* v = reinterpret_cast<const float*>(buffer.data());
     for (int q = 0; q < quads; ++q) {
       const float* a = v + q * 16;
       const float x0 = a[0] * s, y0 = a[1] * s, x1 = a[8] * s, y1 = a[9] * s;
       for (int py = int(std::floor(y0)); py < int(std::ceil(y1)); ++py)
-        for (int pxl = int(std::floor(x0)); pxl < int(std::ceil(x1)); ++pxl) img.set(x + pxl, y - int(px * 0.8f) + py, colour);
+        for (int pxl = int(std::floor(x0)); pxl < int(std::ceil(x1)); ++pxl)
+          img.set(x + pxl, y - int(px * 0.8f) + py, colour);
     }
     return;
   }
@@ -108,7 +115,8 @@ void TextRenderer::draw(Image& img, int x, int y, const std::string& text, float
   }
 }
 
-void TextRenderer::draw_vertical(Image& img, int x, int y, const std::string& text, float px, std::array<std::uint8_t, 3> colour) const {
+void TextRenderer::draw_vertical(Image& img, int x, int y, const std::string& text, float px,
+                                 std::array<std::uint8_t, 3> colour) const {
   // Draw horizontally on a white scratch image, then copy the inked pixels rotated.
   const int w = width(text, px) + 4, h = int(std::ceil(px * 1.3f));
   Image scratch(w, h);

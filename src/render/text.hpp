@@ -21,7 +21,8 @@ class TextRenderer {
             Align align = Align::left) const;
   // Same, rotated 90° counter-clockwise (for a y-axis label); (x, y) is the
   // centre of the text's baseline.
-  void draw_vertical(Image& image, int x, int y, const std::string& text, float pixel_height, std::array<std::uint8_t, 3> colour) const;
+  void draw_vertical(Image& image, int x, int y, const std::string& text, float pixel_height,
+                     std::array<std::uint8_t, 3> colour) const;
   int width(const std::string& text, float pixel_height) const;
 
  private:

@@ -31,16 +31,19 @@ RunSummary run_frames(Solver& solver, const FrameLoopConfig& cfg, FrameObserver&
     while (solver.time() < target - 1e-12) {
       Real dt = solver.max_stable_dt();
       if (!(dt >= cfg.min_dt))
-        throw SimulationError(fmt::format("{} step {} (t = {:.6g} s): the stable time step {:.4g} s, limited by {}, is below the floor {:.4g} s",
-                                          solver.name(), info.steps, solver.time(), dt, solver.active_dt_bound(), cfg.min_dt));
+        throw SimulationError(fmt::format(
+            "{} step {} (t = {:.6g} s): the stable time step {:.4g} s, limited by {}, is below the floor {:.4g} s",
+            solver.name(), info.steps, solver.time(), dt, solver.active_dt_bound(), cfg.min_dt));
       if (solver.active_dt_bound() != bound) {
         bound = solver.active_dt_bound();
         log.info("t = {:.6f} s: time step {:.3e} s limited by {}", solver.time(), dt, bound);
       }
       // Land exactly on the frame time without leaving a tiny last step.
       const Real remaining = target - solver.time();
-      if (dt >= remaining) dt = remaining;
-      else if (dt > 0.5 * remaining) dt = 0.5 * remaining;
+      if (dt >= remaining)
+        dt = remaining;
+      else if (dt > 0.5 * remaining)
+        dt = 0.5 * remaining;
       solver.step(dt);
       info.last_dt = dt;
       ++info.steps;

@@ -13,10 +13,10 @@
 namespace bakesim {
 
 struct FrameInfo {
-  int frame = 0;      // 0 is the initial state
-  Real time = 0;      // simulated time, s
-  long steps = 0;     // cumulative
-  Real last_dt = 0;   // most recent time step, s
+  int frame = 0;     // 0 is the initial state
+  Real time = 0;     // simulated time, s
+  long steps = 0;    // cumulative
+  Real last_dt = 0;  // most recent time step, s
 };
 
 class FrameObserver {

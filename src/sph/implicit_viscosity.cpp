@@ -76,11 +76,14 @@ void SphSolver::phase_viscosity(Real dt) {
   };
   // r = b − A v* with b = M v*: r = −dt K v*.
   apply(v_, cg_ap_);
-  parallel_for(n, [&](std::size_t i) {
-    cg_r_[i] = m_[i] * v_[i] - cg_ap_[i];
-    cg_z_[i] = cg_r_[i] / diag[i];
-    cg_p_[i] = cg_z_[i];
-  }, 4096);
+  parallel_for(
+      n,
+      [&](std::size_t i) {
+        cg_r_[i] = m_[i] * v_[i] - cg_ap_[i];
+        cg_z_[i] = cg_r_[i] / diag[i];
+        cg_p_[i] = cg_z_[i];
+      },
+      4096);
   // Residuals are measured against the momentum M v* plus the momentum one
   // step of gravity adds (m g dt per particle): a body nearly at rest then
   // does not demand a solve far below what its next step changes anyway.
@@ -99,24 +102,29 @@ void SphSolver::phase_viscosity(Real dt) {
     const Vec3 pap = sum_blocks(n, [&](std::size_t i) { return Vec3(cg_p_[i].cwiseProduct(cg_ap_[i])); });
     Vec3 alpha;
     for (int c = 0; c < 3; ++c) alpha[c] = pap[c] > 0 && r2[c] > stop[c] ? rz[c] / pap[c] : 0.0;
-    parallel_for(n, [&](std::size_t i) {
-      v_[i] += alpha.cwiseProduct(cg_p_[i]);
-      cg_r_[i] -= alpha.cwiseProduct(cg_ap_[i]);
-      cg_z_[i] = cg_r_[i] / diag[i];
-    }, 4096);
+    parallel_for(
+        n,
+        [&](std::size_t i) {
+          v_[i] += alpha.cwiseProduct(cg_p_[i]);
+          cg_r_[i] -= alpha.cwiseProduct(cg_ap_[i]);
+          cg_z_[i] = cg_r_[i] / diag[i];
+        },
+        4096);
     const Vec3 rz_new = sum_blocks(n, [&](std::size_t i) { return Vec3(cg_r_[i].cwiseProduct(cg_z_[i])); });
     r2 = sum_blocks(n, [&](std::size_t i) { return Vec3(cg_r_[i].cwiseAbs2()); });
     Vec3 beta;
     for (int c = 0; c < 3; ++c) beta[c] = rz[c] > 0 ? rz_new[c] / rz[c] : 0.0;
     rz = rz_new;
-    parallel_for(n, [&](std::size_t i) { cg_p_[i] = cg_z_[i] + beta.cwiseProduct(cg_p_[i]); }, 4096);
+    parallel_for(
+        n, [&](std::size_t i) { cg_p_[i] = cg_z_[i] + beta.cwiseProduct(cg_p_[i]); }, 4096);
     ++it;
   }
   viscosity_iterations_ = it;
   if ((r2.array() > stop.array()).any() && !(r2.array() <= 1e4 * stop.array()).all())
-    throw SimulationError(fmt::format("SPH step {} (t = {:.6g} s): implicit viscosity did not converge in {} iterations "
-                                      "(relative residual {:.3g}); raise solver.sph.implicit_viscosity.max_iterations",
-                                      steps_, time_, it, std::sqrt((r2.array() / (b_norm2.array() + 1e-30)).maxCoeff())));
+    throw SimulationError(
+        fmt::format("SPH step {} (t = {:.6g} s): implicit viscosity did not converge in {} iterations "
+                    "(relative residual {:.3g}); raise solver.sph.implicit_viscosity.max_iterations",
+                    steps_, time_, it, std::sqrt((r2.array() / (b_norm2.array() + 1e-30)).maxCoeff())));
 }
 
 }  // namespace bakesim::sph

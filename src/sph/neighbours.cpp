@@ -41,7 +41,9 @@ void CellGrid::configure(const Aabb& box, Real cell_size) {
   ny_ = std::max(1, int(std::ceil(ext.y() * inv_cell_)));
   nz_ = std::max(1, int(std::ceil(ext.z() * inv_cell_)));
   const double cells = double(nx_) * ny_ * nz_;
-  if (cells > 4e8) throw Error("neighbour grid would need " + std::to_string(cells) + " cells: domain too large for the smoothing length");
+  if (cells > 4e8)
+    throw Error("neighbour grid would need " + std::to_string(cells) +
+                " cells: domain too large for the smoothing length");
   cell_start_.assign(std::size_t(nx_) * ny_ * nz_ + 1, 0);
 }
 
@@ -61,7 +63,8 @@ std::int64_t CellGrid::cell_of(const Vec3& p) const {
 void CellGrid::sort(const std::vector<Vec3>& x, std::vector<std::uint32_t>& order) {
   const std::size_t n = x.size();
   cell_index_.resize(n);
-  parallel_for(n, [&](std::size_t i) { cell_index_[i] = static_cast<std::uint32_t>(cell_of(x[i])); }, 4096);
+  parallel_for(
+      n, [&](std::size_t i) { cell_index_[i] = static_cast<std::uint32_t>(cell_of(x[i])); }, 4096);
   std::fill(cell_start_.begin(), cell_start_.end(), 0u);
   for (std::size_t i = 0; i < n; ++i) ++cell_start_[cell_index_[i] + 1];
   for (std::size_t c = 1; c < cell_start_.size(); ++c) cell_start_[c] += cell_start_[c - 1];
@@ -119,10 +122,12 @@ struct PointCloud {
   std::size_t kdtree_get_point_count() const { return x.size(); }
   Real kdtree_get_pt(std::size_t i, std::size_t d) const { return x[i][int(d)]; }
   template <class B>
-  bool kdtree_get_bbox(B&) const { return false; }
+  bool kdtree_get_bbox(B&) const {
+    return false;
+  }
 };
-using KdTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<Real, PointCloud>, PointCloud, 3,
-                                                   std::uint32_t>;
+using KdTree =
+    nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<Real, PointCloud>, PointCloud, 3, std::uint32_t>;
 
 // Result set that forwards each hit to a callback instead of storing it.
 template <class Fn>

@@ -128,8 +128,8 @@ SphSolver::SphSolver(Setup setup)
     implicit_viscosity_ = nu > 0 && s.viscous_factor * hs * hs / nu < s.cfl * hs / s.speed_of_sound;
   }
   // Domain walls come first, then analytic colliders; meshes are separate.
-  walls_.push_back(Collider{"domain", InsideBoxCollider{setup_.domain}, setup_.domain_friction,
-                            setup_.domain_damping, std::nullopt});
+  walls_.push_back(Collider{"domain", InsideBoxCollider{setup_.domain}, setup_.domain_friction, setup_.domain_damping,
+                            std::nullopt});
   for (const Collider& c : setup_.colliders) (is_mesh(c) ? meshes_ : walls_).push_back(c);
 
   t_kick_ = timers_.add("kick");
@@ -198,8 +198,9 @@ void SphSolver::seed_particles() {
                                              b.name, s));
     for (const Vec3& p : points.back())
       if (!setup_.domain.contains(p))
-        throw InputError(b.source, fmt::format("body '{}' reaches outside the domain (particle at [{:.4g}, {:.4g}, {:.4g}])",
-                                               b.name, p.x(), p.y(), p.z()));
+        throw InputError(
+            b.source, fmt::format("body '{}' reaches outside the domain (particle at [{:.4g}, {:.4g}, {:.4g}])", b.name,
+                                  p.x(), p.y(), p.z()));
     total += points.back().size();
   }
   if (total > std::size_t(std::numeric_limits<std::int32_t>::max()))
@@ -330,7 +331,8 @@ void SphSolver::phase_neighbours() {
     search_.find(x_, smoothing_, lists_);
   else
     search_.find(x_, lists_);
-  parallel_for(x_.size(), [&](std::size_t i) { ncount_[i] = static_cast<std::int32_t>(lists_.count(i)); }, 4096);
+  parallel_for(
+      x_.size(), [&](std::size_t i) { ncount_[i] = static_cast<std::int32_t>(lists_.count(i)); }, 4096);
 }
 
 // Eq 3.13, plus the mass of a wall half-space at rest density for particles
@@ -386,28 +388,31 @@ void SphSolver::phase_pressure() {
   p_over_rho2_.resize(x_.size());
   volume_.resize(x_.size());
   if (elastic) stress_rho2_.resize(x_.size());
-  parallel_for(x_.size(), [&](std::size_t i) {
-    const int mat = material_[i];
-    const Real rho0 = setup_.materials[mat].rest_density;
-    Real p;
-    if (rise_state_[i] == 2) {
-      Real reference = set_density_[i];
-      if (bubble_[i] && setup_.bodies[body_[i]].bubbles.contract_on_cooling)
-        reference = contracted_reference_density(reference, temperature_[i], set_temperature_[i]);
-      p = tait_pressure(tait_b_[mat], rho_[i], reference, gamma);
-    } else if (rise_state_[i] == 1) {
-      const Body& b = setup_.bodies[body_[i]];
-      p = bubble_pressure(bubble_b_[body_[i]], rho_[i], rho0, temperature_[i], b.temperature);
-    } else {
-      p = tait_pressure(tait_b_[mat], rho_[i], rho0, gamma);
-    }
-    if (clamp && p < 0) p = 0;
-    p_[i] = p;
-    const Real inv_rho2 = 1.0 / (rho_[i] * rho_[i]);
-    p_over_rho2_[i] = p * inv_rho2;
-    volume_[i] = m_[i] / rho_[i];
-    if (elastic) stress_rho2_[i] = stress(i) * inv_rho2;
-  }, 1024);
+  parallel_for(
+      x_.size(),
+      [&](std::size_t i) {
+        const int mat = material_[i];
+        const Real rho0 = setup_.materials[mat].rest_density;
+        Real p;
+        if (rise_state_[i] == 2) {
+          Real reference = set_density_[i];
+          if (bubble_[i] && setup_.bodies[body_[i]].bubbles.contract_on_cooling)
+            reference = contracted_reference_density(reference, temperature_[i], set_temperature_[i]);
+          p = tait_pressure(tait_b_[mat], rho_[i], reference, gamma);
+        } else if (rise_state_[i] == 1) {
+          const Body& b = setup_.bodies[body_[i]];
+          p = bubble_pressure(bubble_b_[body_[i]], rho_[i], rho0, temperature_[i], b.temperature);
+        } else {
+          p = tait_pressure(tait_b_[mat], rho_[i], rho0, gamma);
+        }
+        if (clamp && p < 0) p = 0;
+        p_[i] = p;
+        const Real inv_rho2 = 1.0 / (rho_[i] * rho_[i]);
+        p_over_rho2_[i] = p * inv_rho2;
+        volume_[i] = m_[i] / rho_[i];
+        if (elastic) stress_rho2_[i] = stress(i) * inv_rho2;
+      },
+      1024);
 }
 
 // Colour gradient ∇C_i = Σ V_j ∇W_ij (Eq 3.28; points into the fluid) and the
@@ -434,9 +439,13 @@ void SphSolver::phase_surface() {
     const Real threshold = s.surface_colour_threshold;
     // A particle with almost no neighbours (blown off, or at the tip of an
     // expanded bubble) has a vanishing gradient but is surface all the same.
-    parallel_for(n, [&](std::size_t i) {
-      surface_[i] = colour_grad_[i].norm() * smoothing_[i] >= threshold || lists_.count(i) < kSparseNeighbours ? 1 : 0;
-    }, 4096);
+    parallel_for(
+        n,
+        [&](std::size_t i) {
+          surface_[i] =
+              colour_grad_[i].norm() * smoothing_[i] >= threshold || lists_.count(i) < kSparseNeighbours ? 1 : 0;
+        },
+        4096);
   } else if (steps_ % s.surface_every == 0) {
     const Real threshold = s.surface_hull_threshold * s.spacing;
     struct Scratch {
@@ -444,17 +453,19 @@ void SphSolver::phase_surface() {
       std::vector<Vec3> points;
     };
     tbb::enumerable_thread_specific<Scratch> scratch;
-    parallel_for(n, [&](std::size_t i) {
-      Scratch& sc = scratch.local();
-      sc.points.clear();
-      const std::uint32_t* nb = lists_.begin(i);
-      for (std::uint32_t k = 0; k < lists_.count(i); ++k) sc.points.push_back(x_[nb[k]]);
-      surface_[i] = sc.hull.distance_to_boundary(x_[i], sc.points.data(), sc.points.size()) < threshold ? 1 : 0;
-    }, 64);
+    parallel_for(
+        n,
+        [&](std::size_t i) {
+          Scratch& sc = scratch.local();
+          sc.points.clear();
+          const std::uint32_t* nb = lists_.begin(i);
+          for (std::uint32_t k = 0; k < lists_.count(i); ++k) sc.points.push_back(x_[nb[k]]);
+          surface_[i] = sc.hull.distance_to_boundary(x_[i], sc.points.data(), sc.points.size()) < threshold ? 1 : 0;
+        },
+        64);
   }
-  parallel_for(n, [&](std::size_t i) {
-    area_[i] = surface_[i] ? exchange_area_[material_[i]] : 0.0;
-  }, 4096);
+  parallel_for(
+      n, [&](std::size_t i) { area_[i] = surface_[i] ? exchange_area_[material_[i]] : 0.0; }, 4096);
 }
 
 // Eq 3.20–3.27: the Maxwell stress follows the velocity gradient of the
@@ -462,10 +473,13 @@ void SphSolver::phase_surface() {
 void SphSolver::phase_stress(Real dt) {
   if (!elastic_) return;
   ScopedPhase t(timers_, t_stress_);
-  parallel_for(x_.size(), [&](std::size_t i) {
-    if (elasticity_[i] == 0.0 && stress_diag_[i].isZero() && stress_off_[i].isZero()) return;
-    set_stress(i, maxwell_stress_step(stress(i), velocity_gradient(i), elasticity_[i], relaxation_[i], dt));
-  }, 256);
+  parallel_for(
+      x_.size(),
+      [&](std::size_t i) {
+        if (elasticity_[i] == 0.0 && stress_diag_[i].isZero() && stress_off_[i].isZero()) return;
+        set_stress(i, maxwell_stress_step(stress(i), velocity_gradient(i), elasticity_[i], relaxation_[i], dt));
+      },
+      256);
 }
 
 void SphSolver::phase_forces() {
@@ -501,13 +515,16 @@ void SphSolver::phase_forces() {
   if (art_stress) {
     artificial_stress_.resize(x_.size());
     const Real eps = s.artificial_stress;
-    parallel_for(x_.size(), [&](std::size_t i) {
-      const Mat3 sigma = s_rho2[i] - p_rho2[i] * Mat3::Identity();
-      Eigen::SelfAdjointEigenSolver<Mat3> eig;
-      eig.computeDirect(sigma);
-      const Vec3 r = (-eps * eig.eigenvalues().cwiseMax(0.0)).eval();
-      artificial_stress_[i] = eig.eigenvectors() * r.asDiagonal() * eig.eigenvectors().transpose();
-    }, 1024);
+    parallel_for(
+        x_.size(),
+        [&](std::size_t i) {
+          const Mat3 sigma = s_rho2[i] - p_rho2[i] * Mat3::Identity();
+          Eigen::SelfAdjointEigenSolver<Mat3> eig;
+          eig.computeDirect(sigma);
+          const Vec3 r = (-eps * eig.eigenvalues().cwiseMax(0.0)).eval();
+          artificial_stress_[i] = eig.eigenvectors() * r.asDiagonal() * eig.eigenvectors().transpose();
+        },
+        1024);
   }
   const Mat3* art = art_stress ? artificial_stress_.data() : nullptr;
   // f = W(r)/W(Δp) with the pair's W from the density phase; with adaptive h
@@ -619,15 +636,19 @@ Real SphSolver::wall_share(const Vec3& x, Vec3* gradient) const {
 void SphSolver::phase_kick(Real dt) {
   ScopedPhase t(timers_, t_kick_);
   const Real half = 0.5 * dt;
-  parallel_for(x_.size(), [&](std::size_t i) { v_[i] += half * a_[i]; }, 4096);
+  parallel_for(
+      x_.size(), [&](std::size_t i) { v_[i] += half * a_[i]; }, 4096);
 }
 
 void SphSolver::phase_drift(Real dt) {
   ScopedPhase t(timers_, t_drift_);
-  parallel_for(x_.size(), [&](std::size_t i) {
-    x_prev_[i] = x_[i];
-    x_[i] += dt * v_[i];
-  }, 4096);
+  parallel_for(
+      x_.size(),
+      [&](std::size_t i) {
+        x_prev_[i] = x_[i];
+        x_[i] += dt * v_[i];
+      },
+      4096);
 }
 
 // Eq 3.31–3.33: v_new = β_c v_tangent − α_c v_normal with β_c = 1 − friction
@@ -643,40 +664,42 @@ void SphSolver::phase_collide() {
     const Vec3 tangent = v - normal;
     v = (1.0 - friction) * tangent - (1.0 - damping) * normal;
   };
-  parallel_for(x_.size(), [&](std::size_t i) {
-    Vec3& xi = x_[i];
-    Vec3& vi = v_[i];
-    for (const Collider& c : walls_) {
-      for_each_wall(c.geometry, xi, rc, [&](const WallContact& w) {
-        xi += (rc - w.distance) * w.normal;
-        respond(vi, w.normal, c.friction, c.damping);
-      });
-    }
-    for (const Collider& c : meshes_) {
-      const MeshCollider& mesh = std::get<MeshCollider>(c.geometry);
-      const SegmentHit hit = mesh_segment_hits(mesh, x_prev_[i], xi, rc);
-      if (hit.hits > 0) {
-        const Real len = hit.normal_sum.norm();
-        const Vec3 n = len > 0 ? Vec3(hit.normal_sum / len) : Vec3::UnitY();
-        // Keep the part of the step along the surface when that path is
-        // free: a particle sent back to x_{t−1} on every step would never
-        // slide down a slope while gravity kept feeding its velocity.
-        const Vec3 d = xi - x_prev_[i];
-        const Real dn = d.dot(n);
-        const Vec3 slid = x_prev_[i] + (dn < 0 ? Vec3(d - dn * n) : d);
-        xi = mesh_segment_hits(mesh, x_prev_[i], slid, rc).hits == 0 ? slid : x_prev_[i];
-        respond(vi, n, c.friction, c.damping);
-      }
-    }
-  }, 1024);
+  parallel_for(
+      x_.size(),
+      [&](std::size_t i) {
+        Vec3& xi = x_[i];
+        Vec3& vi = v_[i];
+        for (const Collider& c : walls_) {
+          for_each_wall(c.geometry, xi, rc, [&](const WallContact& w) {
+            xi += (rc - w.distance) * w.normal;
+            respond(vi, w.normal, c.friction, c.damping);
+          });
+        }
+        for (const Collider& c : meshes_) {
+          const MeshCollider& mesh = std::get<MeshCollider>(c.geometry);
+          const SegmentHit hit = mesh_segment_hits(mesh, x_prev_[i], xi, rc);
+          if (hit.hits > 0) {
+            const Real len = hit.normal_sum.norm();
+            const Vec3 n = len > 0 ? Vec3(hit.normal_sum / len) : Vec3::UnitY();
+            // Keep the part of the step along the surface when that path is
+            // free: a particle sent back to x_{t−1} on every step would never
+            // slide down a slope while gravity kept feeding its velocity.
+            const Vec3 d = xi - x_prev_[i];
+            const Real dn = d.dot(n);
+            const Vec3 slid = x_prev_[i] + (dn < 0 ? Vec3(d - dn * n) : d);
+            xi = mesh_segment_hits(mesh, x_prev_[i], slid, rc).hits == 0 ? slid : x_prev_[i];
+            respond(vi, n, c.friction, c.damping);
+          }
+        }
+      },
+      1024);
 }
 
 // Eq 3.34 with the pairwise mean of ε (keeps the correction momentum-conserving).
 void SphSolver::phase_xsph() {
   ScopedPhase t(timers_, t_xsph_);
   bool any = false;
-  for (const Material& m : setup_.materials)
-    any |= !is_constant(m.xsph) || std::get<ConstantCurve>(m.xsph).value > 0;
+  for (const Material& m : setup_.materials) any |= !is_constant(m.xsph) || std::get<ConstantCurve>(m.xsph).value > 0;
   if (!any) return;
   const Vec3* v = v_.data();
   parallel_for(x_.size(), [&](std::size_t i) {
@@ -692,7 +715,8 @@ void SphSolver::phase_xsph() {
     }
     dv_[i] = corr;
   });
-  parallel_for(x_.size(), [&](std::size_t i) { v_[i] += dv_[i]; }, 4096);
+  parallel_for(
+      x_.size(), [&](std::size_t i) { v_[i] += dv_[i]; }, 4096);
 }
 
 // Eq 3.45–3.46: ρ c_p dT/dt = ∇·(k∇T). The kernel Laplacian of Eq 3.46
@@ -722,7 +746,9 @@ void SphSolver::phase_heat(Real dt) {
           }
           return r;
         },
-        [](Range a, Range b) { return Range{std::min(a.first, b.first), std::max(a.second, b.second)}; });
+        [](Range a, Range b) {
+          return Range{std::min(a.first, b.first), std::max(a.second, b.second)};
+        });
     if (range.second > range.first) {
       const Real eta2_fixed = 0.01 * h_ * h_;
       const Real* hsup = smoothing_.data();
@@ -747,7 +773,8 @@ void SphSolver::phase_heat(Real dt) {
         }
         dtemp_[i] = setup_.bodies[body_[i]].hold_temperature ? 0.0 : dt_bake * sum / (rho_[i] * mi.specific_heat);
       });
-      parallel_for(n, [&](std::size_t i) { temperature_[i] += dtemp_[i]; }, 4096);
+      parallel_for(
+          n, [&](std::size_t i) { temperature_[i] += dtemp_[i]; }, 4096);
     }
   }
   // External exchange (Eq 3.42 with the sign and heat capacity restored).
@@ -760,38 +787,41 @@ void SphSolver::phase_heat(Real dt) {
     if (walls_[c].temperature) wall_temperature[c] = (*walls_[c].temperature)(bake_time());
   for (std::size_t c = 0; c < meshes_.size(); ++c)
     if (meshes_[c].temperature) mesh_temperature[c] = (*meshes_[c].temperature)(bake_time());
-  parallel_for(n, [&](std::size_t i) {
-    dtemp_[i] = 0.0;
-    if (!surface_[i] || area_[i] <= 0 || setup_.bodies[body_[i]].hold_temperature) return;
-    Real outside = air, coefficient = h_air;
-    if (heated_colliders_) {
-      bool found = false;
-      for (std::size_t ci = 0; ci < walls_.size(); ++ci) {
-        const Collider& c = walls_[ci];
-        if (!c.temperature || found) continue;
-        for_each_wall(c.geometry, x_[i], touch, [&](const WallContact&) { found = true; });
-        if (found) {
-          outside = wall_temperature[ci];
-          coefficient = c.heat_transfer_coefficient;
+  parallel_for(
+      n,
+      [&](std::size_t i) {
+        dtemp_[i] = 0.0;
+        if (!surface_[i] || area_[i] <= 0 || setup_.bodies[body_[i]].hold_temperature) return;
+        Real outside = air, coefficient = h_air;
+        if (heated_colliders_) {
+          bool found = false;
+          for (std::size_t ci = 0; ci < walls_.size(); ++ci) {
+            const Collider& c = walls_[ci];
+            if (!c.temperature || found) continue;
+            for_each_wall(c.geometry, x_[i], touch, [&](const WallContact&) { found = true; });
+            if (found) {
+              outside = wall_temperature[ci];
+              coefficient = c.heat_transfer_coefficient;
+            }
+          }
+          const Real len = colour_grad_[i].norm();
+          for (std::size_t ci = 0; ci < meshes_.size(); ++ci) {
+            const Collider& c = meshes_[ci];
+            if (!c.temperature || found || len <= 0) continue;
+            const Vec3 out = -colour_grad_[i] / len;
+            if (mesh_segment_hits(std::get<MeshCollider>(c.geometry), x_[i], x_[i] + touch * out, 0.0).hits > 0) {
+              found = true;
+              outside = mesh_temperature[ci];
+              coefficient = c.heat_transfer_coefficient;
+            }
+          }
         }
-      }
-      const Real len = colour_grad_[i].norm();
-      for (std::size_t ci = 0; ci < meshes_.size(); ++ci) {
-        const Collider& c = meshes_[ci];
-        if (!c.temperature || found || len <= 0) continue;
-        const Vec3 out = -colour_grad_[i] / len;
-        if (mesh_segment_hits(std::get<MeshCollider>(c.geometry), x_[i], x_[i] + touch * out, 0.0).hits > 0) {
-          found = true;
-          outside = mesh_temperature[ci];
-          coefficient = c.heat_transfer_coefficient;
-        }
-      }
-    }
-    const Real capacity = m_[i] * setup_.materials[material_[i]].specific_heat;
-    const Real before = temperature_[i];
-    temperature_[i] = exchange_temperature(before, outside, coefficient * area_[i], capacity, dt_bake);
-    dtemp_[i] = exchanged_energy(before, temperature_[i], capacity);
-  }, 1024);
+        const Real capacity = m_[i] * setup_.materials[material_[i]].specific_heat;
+        const Real before = temperature_[i];
+        temperature_[i] = exchange_temperature(before, outside, coefficient * area_[i], capacity, dt_bake);
+        dtemp_[i] = exchanged_energy(before, temperature_[i], capacity);
+      },
+      1024);
   exchanged_heat_ += deterministic_sum(n, [&](std::size_t i) { return dtemp_[i]; });
 }
 
@@ -803,17 +833,21 @@ void SphSolver::phase_properties() {
   ScopedPhase t(timers_, t_properties_);
   const std::size_t n = x_.size();
   if (follows_peak_)
-    parallel_for(n, [&](std::size_t i) {
-      peak_temperature_[i] = std::max(peak_temperature_[i], temperature_[i]);
-    }, 4096);
+    parallel_for(
+        n, [&](std::size_t i) { peak_temperature_[i] = std::max(peak_temperature_[i], temperature_[i]); }, 4096);
   auto follow = [&](int id, const TemperatureCurve& c, std::vector<Real>& out, Real lo, Real hi) {
     if (is_constant(c)) return;
     const std::vector<Real>& t = setup_.materials[id].properties_follow_peak ? peak_temperature_ : temperature_;
-    std::visit([&](const auto& curve) {
-      parallel_for(n, [&](std::size_t i) {
-        if (material_[i] == id) out[i] = std::clamp(curve(t[i]), lo, hi);
-      }, 4096);
-    }, c);
+    std::visit(
+        [&](const auto& curve) {
+          parallel_for(
+              n,
+              [&](std::size_t i) {
+                if (material_[i] == id) out[i] = std::clamp(curve(t[i]), lo, hi);
+              },
+              4096);
+        },
+        c);
   };
   const Real inf = std::numeric_limits<Real>::infinity();
   for (std::size_t mi = 0; mi < setup_.materials.size(); ++mi) {
@@ -827,20 +861,23 @@ void SphSolver::phase_properties() {
   // Bubbles start rising once heating begins; a bubble stops when it has
   // expanded max_expansion times, and every particle of the body switches to
   // the risen Tait law at end_temperature (ρ_f: its density then, Eq 3.52).
-  parallel_for(n, [&](std::size_t i) {
-    const Body& b = setup_.bodies[body_[i]];
-    if (b.bubbles.fraction <= 0 || rise_state_[i] == 2) return;
-    const Real rho0 = setup_.materials[material_[i]].rest_density;
-    const bool rising = rise_state_[i] == 1;
-    if (bubble_[i] && !rising && temperature_[i] > b.temperature + 0.5) rise_state_[i] = 1;
-    const bool done = temperature_[i] >= b.bubbles.end_temperature ||
-                      (bubble_[i] && rise_state_[i] == 1 && rho0 / rho_[i] >= b.bubbles.max_expansion);
-    if (done) {
-      rise_state_[i] = 2;
-      set_density_[i] = std::min(rho_[i], rho0);
-      set_temperature_[i] = temperature_[i];
-    }
-  }, 4096);
+  parallel_for(
+      n,
+      [&](std::size_t i) {
+        const Body& b = setup_.bodies[body_[i]];
+        if (b.bubbles.fraction <= 0 || rise_state_[i] == 2) return;
+        const Real rho0 = setup_.materials[material_[i]].rest_density;
+        const bool rising = rise_state_[i] == 1;
+        if (bubble_[i] && !rising && temperature_[i] > b.temperature + 0.5) rise_state_[i] = 1;
+        const bool done = temperature_[i] >= b.bubbles.end_temperature ||
+                          (bubble_[i] && rise_state_[i] == 1 && rho0 / rho_[i] >= b.bubbles.max_expansion);
+        if (done) {
+          rise_state_[i] = 2;
+          set_density_[i] = std::min(rho_[i], rho0);
+          set_temperature_[i] = temperature_[i];
+        }
+      },
+      4096);
 }
 
 // Eq 3.54–3.55: h_i = k_g (ρ_i/ρ_ref)^(−ε_g) h0 for the next step, with
@@ -853,15 +890,18 @@ void SphSolver::phase_smoothing() {
   const std::size_t n = x_.size();
   Real log_mean = 0;
   if (a.geometric_mean && n > 0) {
-    log_mean = deterministic_sum(n, [&](std::size_t i) {
-                 return std::log(rho_[i] / setup_.materials[material_[i]].rest_density);
-               }) / Real(n);
+    log_mean = deterministic_sum(
+                   n, [&](std::size_t i) { return std::log(rho_[i] / setup_.materials[material_[i]].rest_density); }) /
+               Real(n);
   }
   const Real lo = a.min_ratio * h_, hi = a.max_ratio * h_;
-  parallel_for(n, [&](std::size_t i) {
-    const Real relative = std::log(rho_[i] / setup_.materials[material_[i]].rest_density) - log_mean;
-    smoothing_[i] = std::clamp(a.scale * std::exp(-a.sensitivity * relative) * h_, lo, hi);
-  }, 4096);
+  parallel_for(
+      n,
+      [&](std::size_t i) {
+        const Real relative = std::log(rho_[i] / setup_.materials[material_[i]].rest_density) - log_mean;
+        smoothing_[i] = std::clamp(a.scale * std::exp(-a.sensitivity * relative) * h_, lo, hi);
+      },
+      4096);
 }
 
 void SphSolver::check_finite() {
@@ -882,24 +922,31 @@ void SphSolver::check_finite() {
       },
       [](std::size_t a, std::size_t b) { return std::min(a, b); });
   if (bad == n) return;
-  const std::string quantity = !x_[bad].allFinite() ? "non-finite position" : !v_[bad].allFinite() ? "non-finite velocity"
-                               : !std::isfinite(rho_[bad]) ? "non-finite density" : !std::isfinite(p_[bad]) ? "non-finite pressure"
+  const std::string quantity = !x_[bad].allFinite()                ? "non-finite position"
+                               : !v_[bad].allFinite()              ? "non-finite velocity"
+                               : !std::isfinite(rho_[bad])         ? "non-finite density"
+                               : !std::isfinite(p_[bad])           ? "non-finite pressure"
                                : !std::isfinite(temperature_[bad]) ? "non-finite temperature"
-                               : !setup_.domain.contains(x_[bad]) ? "position outside the domain" : "collapsed density";
+                               : !setup_.domain.contains(x_[bad])  ? "position outside the domain"
+                                                                   : "collapsed density";
   std::string neighbours;
   const bool listed = bad < lists_.size();
   const std::uint32_t* nb = listed ? lists_.begin(bad) : nullptr;
   const std::uint32_t count = listed ? lists_.count(bad) : 0;
   for (std::uint32_t k = 0; k < std::min<std::uint32_t>(count, 4); ++k) {
     const std::uint32_t j = nb[k];
-    neighbours += fmt::format("{}particle {} (x ({:.4g}, {:.4g}, {:.4g}), v ({:.4g}, {:.4g}, {:.4g}), density {:.6g}, T {:.4g})",
-                              k ? "; " : "", id_[j], x_[j].x(), x_[j].y(), x_[j].z(), v_[j].x(), v_[j].y(), v_[j].z(), rho_[j], temperature_[j]);
+    neighbours +=
+        fmt::format("{}particle {} (x ({:.4g}, {:.4g}, {:.4g}), v ({:.4g}, {:.4g}, {:.4g}), density {:.6g}, T {:.4g})",
+                    k ? "; " : "", id_[j], x_[j].x(), x_[j].y(), x_[j].z(), v_[j].x(), v_[j].y(), v_[j].z(), rho_[j],
+                    temperature_[j]);
   }
-  throw SimulationError(fmt::format(
-      "SPH step {} (t = {:.6g} s): particle {} of body '{}' has a {}: x ({:.4g}, {:.4g}, {:.4g}), v ({:.4g}, {:.4g}, {:.4g}), "
-      "density {:.6g} kg/m^3, pressure {:.6g} Pa, T {:.4g} degC, {} neighbours{}{}",
-      steps_, time_, id_[bad], setup_.bodies[body_[bad]].name, quantity, x_[bad].x(), x_[bad].y(), x_[bad].z(), v_[bad].x(),
-      v_[bad].y(), v_[bad].z(), rho_[bad], p_[bad], temperature_[bad], count, count ? ": " : "", neighbours));
+  throw SimulationError(
+      fmt::format("SPH step {} (t = {:.6g} s): particle {} of body '{}' has a {}: x ({:.4g}, {:.4g}, {:.4g}), v "
+                  "({:.4g}, {:.4g}, {:.4g}), "
+                  "density {:.6g} kg/m^3, pressure {:.6g} Pa, T {:.4g} degC, {} neighbours{}{}",
+                  steps_, time_, id_[bad], setup_.bodies[body_[bad]].name, quantity, x_[bad].x(), x_[bad].y(),
+                  x_[bad].z(), v_[bad].x(), v_[bad].y(), v_[bad].z(), rho_[bad], p_[bad], temperature_[bad], count,
+                  count ? ": " : "", neighbours));
 }
 
 // ---- driver ------------------------------------------------------------------
@@ -962,11 +1009,13 @@ void SphSolver::phase_browning(Real dt) {
   ScopedPhase t(timers_, t_browning_);
   const BrowningKinetics& kinetics = setup_.environment.browning;
   const Real dt_bake = dt * setup_.environment.bake_time_scale;
-  parallel_for(x_.size(), [&](std::size_t i) { browning_[i] = kinetics.advance(browning_[i], temperature_[i], dt_bake); });
+  parallel_for(x_.size(),
+               [&](std::size_t i) { browning_[i] = kinetics.advance(browning_[i], temperature_[i], dt_bake); });
 }
 
 void SphSolver::step(Real dt) {
-  if (!(dt > 0) || !std::isfinite(dt)) throw SimulationError(fmt::format("SPH step {}: invalid time step {}", steps_, dt));
+  if (!(dt > 0) || !std::isfinite(dt))
+    throw SimulationError(fmt::format("SPH step {}: invalid time step {}", steps_, dt));
   phase_kick(dt);
   phase_drift(dt);
   phase_collide();
@@ -1000,14 +1049,22 @@ std::vector<Real> SphSolver::sample(const Vec3& x, const std::vector<std::string
   enum class Q { temperature, density, pressure, speed, vx, vy, vz };
   std::vector<Q> qs;
   for (const std::string& name : quantities) {
-    if (name == "temperature") qs.push_back(Q::temperature);
-    else if (name == "density") qs.push_back(Q::density);
-    else if (name == "pressure") qs.push_back(Q::pressure);
-    else if (name == "speed") qs.push_back(Q::speed);
-    else if (name == "velocity_x") qs.push_back(Q::vx);
-    else if (name == "velocity_y") qs.push_back(Q::vy);
-    else if (name == "velocity_z") qs.push_back(Q::vz);
-    else throw InputError("probes", "unknown probe quantity '" + name + "'");
+    if (name == "temperature")
+      qs.push_back(Q::temperature);
+    else if (name == "density")
+      qs.push_back(Q::density);
+    else if (name == "pressure")
+      qs.push_back(Q::pressure);
+    else if (name == "speed")
+      qs.push_back(Q::speed);
+    else if (name == "velocity_x")
+      qs.push_back(Q::vx);
+    else if (name == "velocity_y")
+      qs.push_back(Q::vy);
+    else if (name == "velocity_z")
+      qs.push_back(Q::vz);
+    else
+      throw InputError("probes", "unknown probe quantity '" + name + "'");
   }
   std::vector<Real> sum(qs.size(), 0.0);
   Real wsum = 0.0;
@@ -1045,9 +1102,12 @@ std::vector<std::pair<std::string, double>> SphSolver::checkpoint_state() const 
 
 void SphSolver::restore_state(const std::vector<std::pair<std::string, double>>& state) {
   for (const auto& [name, value] : state) {
-    if (name == "time") time_ = value;
-    else if (name == "steps") steps_ = long(value);
-    else if (name == "exchanged_heat") exchanged_heat_ = value;
+    if (name == "time")
+      time_ = value;
+    else if (name == "steps")
+      steps_ = long(value);
+    else if (name == "exchanged_heat")
+      exchanged_heat_ = value;
   }
   // Neighbour lists, pair kernels and per-step scratch are rebuilt by the next
   // step, which starts by sorting and searching.

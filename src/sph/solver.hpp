@@ -41,12 +41,12 @@ namespace bakesim::sph {
 
 struct Material {
   std::string name;
-  Real rest_density = 1000.0;   // kg/m³
+  Real rest_density = 1000.0;                        // kg/m³
   TemperatureCurve viscosity = ConstantCurve{1e-3};  // dynamic viscosity μ(T), Pa·s (Eq 4.1)
   Real surface_tension = 0.0;                        // σ, N/m (colour-field model)
   TemperatureCurve xsph = ConstantCurve{0.0};        // velocity tuner ε(T), clamped to [0, 1] (Eq 4.4)
-  Real specific_heat = 4181.0;  // J/(kg·K)
-  Real conductivity = 0.6;      // W/(m·K)
+  Real specific_heat = 4181.0;                       // J/(kg·K)
+  Real conductivity = 0.6;                           // W/(m·K)
   // Maxwell viscoelasticity (Eq 3.20): elasticity μ_e(T) in Pa (0: no
   // viscoelastic stress) and relaxation time λ(T) in s (Eq 4.2, 4.3).
   TemperatureCurve elasticity = ConstantCurve{0.0};
@@ -63,12 +63,12 @@ struct BubbleSpec {
   Real fraction = 0.0;  // share of the body's particles (of the chosen zone)
   BubbleDistribution distribution = BubbleDistribution::uniform;
   std::uint64_t seed = 1;
-  int layers = 4;                     // layered: slabs along the vertical, odd ones hold bubbles
-  std::optional<Shape> region;        // region: bubbles only inside this shape
-  std::optional<Real> pressure_scale; // B of Eq 3.48 for bubbles, Pa (default: the material's Tait B)
-  Real max_expansion = 3.0;           // a bubble stops rising when ρ0/ρ reaches this
-  Real end_temperature = 100.0;       // °C: the rise ends (Eq 3.52 takes over) for every particle of the body
-  bool contract_on_cooling = false;   // risen bubbles shrink by the gas law as they cool
+  int layers = 4;                      // layered: slabs along the vertical, odd ones hold bubbles
+  std::optional<Shape> region;         // region: bubbles only inside this shape
+  std::optional<Real> pressure_scale;  // B of Eq 3.48 for bubbles, Pa (default: the material's Tait B)
+  Real max_expansion = 3.0;            // a bubble stops rising when ρ0/ρ reaches this
+  Real end_temperature = 100.0;        // °C: the rise ends (Eq 3.52 takes over) for every particle of the body
+  bool contract_on_cooling = false;    // risen bubbles shrink by the gas law as they cool
 };
 
 struct Body {
@@ -92,7 +92,7 @@ std::string to_string(ViscositySolver v);
 // temperature schedule is given in bake time.
 struct Environment {
   PiecewiseLinear air_temperature = PiecewiseLinear::constant(20.0);  // °C over bake time (s)
-  Real heat_transfer_coefficient = 10.0;  // W/(m² K), air to surface particles
+  Real heat_transfer_coefficient = 10.0;                              // W/(m² K), air to surface particles
   Real bake_time_scale = 1.0;
   BrowningKinetics browning;  // crust colour from the temperature history
 };
@@ -100,16 +100,16 @@ struct Environment {
 // Per-particle smoothing length, Eq 3.54–3.56 (docs/physics.md).
 struct AdaptiveSmoothing {
   bool enabled = false;
-  bool geometric_mean = true;  // ρ_ref: geometric mean of ρ/ρ0 (Eq 3.55), else ρ0
-  Real sensitivity = 0.5;      // ε_g
-  Real scale = 1.0;            // k_g
+  bool geometric_mean = true;             // ρ_ref: geometric mean of ρ/ρ0 (Eq 3.55), else ρ0
+  Real sensitivity = 0.5;                 // ε_g
+  Real scale = 1.0;                       // k_g
   Real min_ratio = 0.8, max_ratio = 1.5;  // h_i / h0 limits
 };
 
 struct Settings {
-  Real spacing = 0.01;           // initial particle spacing s, m
-  Real smoothing_ratio = 2.0;    // support h = ratio · s
-  Real speed_of_sound = 20.0;    // c, m/s; Tait B = ρ0 c² / γ
+  Real spacing = 0.01;         // initial particle spacing s, m
+  Real smoothing_ratio = 2.0;  // support h = ratio · s
+  Real speed_of_sound = 20.0;  // c, m/s; Tait B = ρ0 c² / γ
   Real gamma = 7.0;
   NeighbourMethod search = NeighbourMethod::grid;
   bool clamp_negative_pressure = true;
@@ -120,12 +120,12 @@ struct Settings {
   Real artificial_stress = 0.0, artificial_stress_exponent = 4.0;
   Real surface_threshold = 0.1;  // |∇C| · h above which surface tension acts (Eq 3.30)
   SurfaceMethod surface_method = SurfaceMethod::colour;
-  Real surface_colour_threshold = 0.6;   // |∇C| · h at or above which a particle is on the surface
-  Real surface_hull_threshold = 0.5;     // hull boundary closer than this × spacing: on the surface
-  int surface_every = 1;                 // steps between surface detections
+  Real surface_colour_threshold = 0.6;  // |∇C| · h at or above which a particle is on the surface
+  Real surface_hull_threshold = 0.5;    // hull boundary closer than this × spacing: on the surface
+  int surface_every = 1;                // steps between surface detections
   ViscositySolver viscosity_solver = ViscositySolver::automatic;
   AdaptiveSmoothing adaptive;
-  Real implicit_tolerance = 1e-6;        // relative residual of the implicit viscosity solve
+  Real implicit_tolerance = 1e-6;  // relative residual of the implicit viscosity solve
   int implicit_max_iterations = 500;
   Real cfl = 0.4;
   bool heat_conduction = true;
@@ -222,17 +222,17 @@ class SphSolver final : public Solver {
   WallKernelShare wall_share_;
   NeighbourSearch search_;
   NeighbourLists lists_;
-  std::vector<Collider> walls_;  // analytic colliders incl. the domain box
-  std::vector<Collider> meshes_; // mesh colliders
-  std::vector<Real> tait_b_;     // per material
-  std::vector<Real> mass_;       // per material
+  std::vector<Collider> walls_;     // analytic colliders incl. the domain box
+  std::vector<Collider> meshes_;    // mesh colliders
+  std::vector<Real> tait_b_;        // per material
+  std::vector<Real> mass_;          // per material
   std::vector<Real> conductivity_;  // per material, read per neighbour pair in the heat phase
   std::vector<Real> bubble_b_;      // per body: B of Eq 3.48
   bool implicit_viscosity_ = false;
-  bool elastic_ = false;  // some material has a Maxwell stress (μ_e not identically 0)
-  bool heated_colliders_ = false;   // some collider carries a temperature
-  bool follows_peak_ = false;       // some material reads its curves at the peak temperature
-  bool adaptive_ = false;           // per-particle smoothing length (Eq 3.54–3.56)
+  bool elastic_ = false;             // some material has a Maxwell stress (μ_e not identically 0)
+  bool heated_colliders_ = false;    // some collider carries a temperature
+  bool follows_peak_ = false;        // some material reads its curves at the peak temperature
+  bool adaptive_ = false;            // per-particle smoothing length (Eq 3.54–3.56)
   std::vector<Real> exchange_area_;  // per material: π r² of a surface particle (Eq 3.43)
   int viscosity_iterations_ = 0;
   Real exchanged_heat_ = 0.0;
@@ -248,14 +248,14 @@ class SphSolver final : public Solver {
   std::vector<Real>& browning_;  // browning index B = ΔE/ΔE∞
   std::vector<Real>& mu_;
   std::vector<Real>& eps_;
-  std::vector<Real>& elasticity_;   // μ_e
-  std::vector<Real>& relaxation_;   // λ
-  std::vector<Vec3>& stress_diag_;  // S_xx, S_yy, S_zz
-  std::vector<Vec3>& stress_off_;   // S_xy, S_xz, S_yz
-  std::vector<Real>& area_;         // exchange area of surface particles, m²
-  std::vector<Real>& smoothing_;    // support radius h_i, m (h0 unless adaptive, Eq 3.54)
-  std::vector<Real>& set_density_;  // ρ_f of Eq 3.52
-  std::vector<Real>& set_temperature_;  // °C at which the rise ended
+  std::vector<Real>& elasticity_;        // μ_e
+  std::vector<Real>& relaxation_;        // λ
+  std::vector<Vec3>& stress_diag_;       // S_xx, S_yy, S_zz
+  std::vector<Vec3>& stress_off_;        // S_xy, S_xz, S_yz
+  std::vector<Real>& area_;              // exchange area of surface particles, m²
+  std::vector<Real>& smoothing_;         // support radius h_i, m (h0 unless adaptive, Eq 3.54)
+  std::vector<Real>& set_density_;       // ρ_f of Eq 3.52
+  std::vector<Real>& set_temperature_;   // °C at which the rise ended
   std::vector<Real>& peak_temperature_;  // highest °C reached (irreversible setting)
   std::vector<std::int32_t>& surface_;
   std::vector<std::int32_t>& bubble_;
@@ -267,15 +267,15 @@ class SphSolver final : public Solver {
   std::vector<std::uint32_t> order_;
   // Per-step scratch, valid only within the phases that fill them (not in
   // the registry, so sorting does not move them).
-  std::vector<Vec3> x_prev_;  // position before the drift, for mesh collisions
-  std::vector<Vec3> dv_;      // XSPH correction
-  std::vector<Real> dtemp_;   // temperature change of the heat phase
-  std::vector<Real> p_over_rho2_;  // P/ρ², per particle (pressure phase)
-  std::vector<Real> volume_;       // m/ρ, per particle (pressure phase)
-  std::vector<Vec3> colour_grad_;  // Σ V_j ∇W_ij (points into the fluid), surface phase
-  std::vector<Mat3> stress_rho2_;  // S/ρ², per particle (pressure phase)
+  std::vector<Vec3> x_prev_;             // position before the drift, for mesh collisions
+  std::vector<Vec3> dv_;                 // XSPH correction
+  std::vector<Real> dtemp_;              // temperature change of the heat phase
+  std::vector<Real> p_over_rho2_;        // P/ρ², per particle (pressure phase)
+  std::vector<Real> volume_;             // m/ρ, per particle (pressure phase)
+  std::vector<Vec3> colour_grad_;        // Σ V_j ∇W_ij (points into the fluid), surface phase
+  std::vector<Mat3> stress_rho2_;        // S/ρ², per particle (pressure phase)
   std::vector<Mat3> artificial_stress_;  // R_i of Monaghan (2000), per particle (forces phase)
-  std::vector<double> pair_visc_;  // implicit viscosity weights, layout of lists_
+  std::vector<double> pair_visc_;        // implicit viscosity weights, layout of lists_
   std::vector<Vec3> cg_r_, cg_z_, cg_p_, cg_ap_;
   // Per neighbour pair, in the layout of lists_ (computed by the density
   // phase, valid until positions change): W(r) and W'(r)/r.
@@ -283,8 +283,8 @@ class SphSolver final : public Solver {
   std::vector<std::size_t> body_counts_;
 
   PhaseTimers timers_;
-  int t_kick_, t_drift_, t_collide_, t_sort_, t_neigh_, t_density_, t_surface_, t_stress_, t_pressure_, t_forces_, t_xsph_,
-      t_viscosity_, t_heat_, t_browning_, t_properties_, t_smoothing_, t_check_;
+  int t_kick_, t_drift_, t_collide_, t_sort_, t_neigh_, t_density_, t_surface_, t_stress_, t_pressure_, t_forces_,
+      t_xsph_, t_viscosity_, t_heat_, t_browning_, t_properties_, t_smoothing_, t_check_;
   Real time_ = 0.0;
   long steps_ = 0;
   std::string dt_bound_ = "cfl";

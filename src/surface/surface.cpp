@@ -89,7 +89,8 @@ openvdb::FloatGrid::Ptr wyvill_grid(const SurfaceParticles& particles, const Sur
     const std::size_t end = std::min(n, (c + 1) * kChunk);
     for (std::size_t i = c * kChunk; i < end; ++i) {
       const Vec3& x = particles.position[i];
-      const Real b = (o.wyvill_alpha + o.wyvill_beta * std::clamp(particles.density_ratio[i], 0.5, 8.0)) * particles.spacing;
+      const Real b =
+          (o.wyvill_alpha + o.wyvill_beta * std::clamp(particles.density_ratio[i], 0.5, 8.0)) * particles.spacing;
       const Vec3 lo = (x.array() - b) / voxel, hi = (x.array() + b) / voxel;
       for (int k = int(std::ceil(lo.z())); k <= int(std::floor(hi.z())); ++k)
         for (int j = int(std::ceil(lo.y())); j <= int(std::floor(hi.y())); ++j)
@@ -151,7 +152,8 @@ SurfaceMesh reconstruct_surface(const SurfaceParticles& particles, const Surface
   // outward, so that settles it for either.
   Real signed_volume = 0;
   for (const auto& t : mesh.triangles)
-    signed_volume += mesh.vertices[t[0]].cast<Real>().dot(mesh.vertices[t[1]].cast<Real>().cross(mesh.vertices[t[2]].cast<Real>()));
+    signed_volume +=
+        mesh.vertices[t[0]].cast<Real>().dot(mesh.vertices[t[1]].cast<Real>().cross(mesh.vertices[t[2]].cast<Real>()));
   if (signed_volume < 0)
     for (auto& t : mesh.triangles) std::swap(t[1], t[2]);
   compute_normals(mesh);
@@ -179,9 +181,12 @@ struct PointCloud {
   std::size_t kdtree_get_point_count() const { return pts->size(); }
   Real kdtree_get_pt(std::size_t i, std::size_t d) const { return (*pts)[i][Eigen::Index(d)]; }
   template <class B>
-  bool kdtree_get_bbox(B&) const { return false; }
+  bool kdtree_get_bbox(B&) const {
+    return false;
+  }
 };
-using KdTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<Real, PointCloud>, PointCloud, 3, std::size_t>;
+using KdTree =
+    nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<Real, PointCloud>, PointCloud, 3, std::size_t>;
 
 // Cubic spline kernel with support radius `support` (unnormalised: the sum is
 // Shepard-normalised, so the constant cancels).
@@ -205,27 +210,30 @@ void assign_uv(SurfaceMesh& mesh, const ColourSamples& s, Real support) {
     return offset + 0.8 * std::clamp(s.value[j], 0.0, 1.0) + 0.05;
   };
   // One result list per block of vertices: the search reuses its storage.
-  parallel_blocks(mesh.vertices.size(), [&](std::size_t vb, std::size_t ve) {
-    std::vector<std::pair<std::size_t, Real>> found;
-    for (std::size_t v = vb; v < ve; ++v) {
-      const Vec3 x = mesh.vertices[v].cast<Real>();
-      tree.radiusSearch(x.data(), support * support, found, nanoflann::SearchParams(32, 0, false));
-      Real num = 0, den = 0;
-      for (const auto& f : found) {
-        const Real w = s.volume[f.first] * spline(std::sqrt(f.second), support);  // Eq 4.5
-        num += w * g(f.first);
-        den += w;
-      }
-      if (den > 0) {
-        mesh.uv[v] = float(num / den);
-      } else {
-        std::size_t nearest = 0;
-        Real d2 = 0;
-        tree.knnSearch(x.data(), 1, &nearest, &d2);
-        mesh.uv[v] = float(g(nearest));
-      }
-    }
-  }, 1024);
+  parallel_blocks(
+      mesh.vertices.size(),
+      [&](std::size_t vb, std::size_t ve) {
+        std::vector<std::pair<std::size_t, Real>> found;
+        for (std::size_t v = vb; v < ve; ++v) {
+          const Vec3 x = mesh.vertices[v].cast<Real>();
+          tree.radiusSearch(x.data(), support * support, found, nanoflann::SearchParams(32, 0, false));
+          Real num = 0, den = 0;
+          for (const auto& f : found) {
+            const Real w = s.volume[f.first] * spline(std::sqrt(f.second), support);  // Eq 4.5
+            num += w * g(f.first);
+            den += w;
+          }
+          if (den > 0) {
+            mesh.uv[v] = float(num / den);
+          } else {
+            std::size_t nearest = 0;
+            Real d2 = 0;
+            tree.knnSearch(x.data(), 1, &nearest, &d2);
+            mesh.uv[v] = float(g(nearest));
+          }
+        }
+      },
+      1024);
 }
 
 std::array<std::uint8_t, 3> palette_colour(Palette p, Real u) {
@@ -233,10 +241,16 @@ std::array<std::uint8_t, 3> palette_colour(Palette p, Real u) {
     Real at, r, g, b;
   };
   // baking: raw dough cream → golden → brown → burnt; heat: blue → red.
-  static const Stop baking[] = {{0.0, 0.96, 0.91, 0.78}, {0.2, 0.93, 0.84, 0.62}, {0.45, 0.85, 0.62, 0.30},
-                                {0.7, 0.62, 0.36, 0.13}, {1.0, 0.25, 0.12, 0.05}};
-  static const Stop heat[] = {{0.0, 0.19, 0.25, 0.68}, {0.25, 0.27, 0.62, 0.85}, {0.5, 0.95, 0.93, 0.75},
-                              {0.75, 0.97, 0.55, 0.25}, {1.0, 0.70, 0.05, 0.10}};
+  static const Stop baking[] = {{0.0, 0.96, 0.91, 0.78},
+                                {0.2, 0.93, 0.84, 0.62},
+                                {0.45, 0.85, 0.62, 0.30},
+                                {0.7, 0.62, 0.36, 0.13},
+                                {1.0, 0.25, 0.12, 0.05}};
+  static const Stop heat[] = {{0.0, 0.19, 0.25, 0.68},
+                              {0.25, 0.27, 0.62, 0.85},
+                              {0.5, 0.95, 0.93, 0.75},
+                              {0.75, 0.97, 0.55, 0.25},
+                              {1.0, 0.70, 0.05, 0.10}};
   const Stop* stops = p == Palette::baking ? baking : heat;
   u = std::clamp(u, 0.0, 1.0);
   int k = 0;
@@ -248,7 +262,8 @@ std::array<std::uint8_t, 3> palette_colour(Palette p, Real u) {
 
 void colour_vertices(SurfaceMesh& mesh, Palette p) {
   mesh.colours.resize(mesh.vertices.size());
-  for (std::size_t v = 0; v < mesh.vertices.size(); ++v) mesh.colours[v] = palette_colour(p, v < mesh.uv.size() ? mesh.uv[v] : 0.0);
+  for (std::size_t v = 0; v < mesh.vertices.size(); ++v)
+    mesh.colours[v] = palette_colour(p, v < mesh.uv.size() ? mesh.uv[v] : 0.0);
 }
 
 // ---- checks -----------------------------------------------------------------
@@ -268,9 +283,12 @@ MeshQuality check_mesh(const SurfaceMesh& m) {
     const int back = rev == directed.end() ? 0 : rev->second;
     if (a < b || back == 0) {  // count each undirected edge once
       const int total = count + back;
-      if (total == 1) ++q.boundary_edges;
-      else if (total > 2) ++q.non_manifold_edges;
-      else if (count != 1 || back != 1) ++q.misoriented_edges;
+      if (total == 1)
+        ++q.boundary_edges;
+      else if (total > 2)
+        ++q.non_manifold_edges;
+      else if (count != 1 || back != 1)
+        ++q.misoriented_edges;
     }
   }
   for (const auto& t : m.triangles) {

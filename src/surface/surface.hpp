@@ -26,10 +26,10 @@ namespace bakesim::surface {
 
 struct SurfaceMesh {
   std::vector<Eigen::Vector3f> vertices;
-  std::vector<Eigen::Vector3f> normals;  // area-weighted vertex normals, unit length
+  std::vector<Eigen::Vector3f> normals;                 // area-weighted vertex normals, unit length
   std::vector<std::array<std::uint32_t, 3>> triangles;  // counter-clockwise seen from outside
-  std::vector<float> uv;                                 // per vertex U = V (thesis Eq 4.5)
-  std::vector<std::array<std::uint8_t, 3>> colours;      // per vertex sRGB
+  std::vector<float> uv;                                // per vertex U = V (thesis Eq 4.5)
+  std::vector<std::array<std::uint8_t, 3>> colours;     // per vertex sRGB
 };
 
 struct SurfaceParticles {
@@ -46,8 +46,8 @@ struct SurfaceOptions {
   SurfaceMethod method = SurfaceMethod::levelset;
   Real voxel_ratio = 0;  // voxel size / s; 0: the method's default (levelset 0.75, wyvill 0.5)
   // levelset
-  Real sphere_radius = 1.5;        // × s c_i
-  int smoothing_iterations = 0;    // mean-curvature flow steps before meshing (slow; the closing already smooths)
+  Real sphere_radius = 1.5;      // × s c_i
+  int smoothing_iterations = 0;  // mean-curvature flow steps before meshing (slow; the closing already smooths)
   // wyvill (Eq 3.60: b_i = (α + β ρ0/ρ_i) s)
   Real wyvill_alpha = 1.0;
   Real wyvill_beta = 1.0;
@@ -78,8 +78,8 @@ Real wyvill_interior_value(Real radius_over_spacing);
 // support take their nearest particle's G.
 struct ColourSamples {
   std::vector<Vec3> position;
-  std::vector<Real> volume;  // m_j / ρ_j
-  std::vector<Real> value;   // normalised to [0, 1]
+  std::vector<Real> volume;          // m_j / ρ_j
+  std::vector<Real> value;           // normalised to [0, 1]
   std::vector<std::uint8_t> bubble;  // 1 for bubble particles (may be empty)
 };
 void assign_uv(SurfaceMesh& mesh, const ColourSamples& samples, Real support);

@@ -28,14 +28,23 @@ std::string mutate(const std::vector<std::string>& seeds, std::uint64_t& s) {
   for (int e = 0; e < edits; ++e) {
     const std::size_t at = m.empty() ? 0 : next(s) % (m.size() + 1);
     switch (next(s) % 6) {
-      case 0: if (at < m.size()) m[at] = char(next(s)); break;                        // flip a byte
-      case 1: m.insert(at, 1, "{}[]\",:0123456789-.eE \n\t\\"[next(s) % 25]); break;   // a syntax character
-      case 2: if (at < m.size()) m.erase(at, 1 + next(s) % 16); break;                 // delete a run
-      case 3: m.resize(at); break;                                                      // truncate
-      case 4: { const std::string& o = seeds[next(s) % seeds.size()];                   // splice another seed
-                if (!o.empty()) { const std::size_t from = next(s) % o.size(); m.insert(at, o.substr(from, 1 + next(s) % 64)); }
-                break; }
-      default: m.insert(at, std::to_string(std::int64_t(next(s))) ); break;            // a big number
+      case 0:
+        if (at < m.size()) m[at] = char(next(s));
+        break;                                                                        // flip a byte
+      case 1: m.insert(at, 1, "{}[]\",:0123456789-.eE \n\t\\"[next(s) % 25]); break;  // a syntax character
+      case 2:
+        if (at < m.size()) m.erase(at, 1 + next(s) % 16);
+        break;                      // delete a run
+      case 3: m.resize(at); break;  // truncate
+      case 4: {
+        const std::string& o = seeds[next(s) % seeds.size()];  // splice another seed
+        if (!o.empty()) {
+          const std::size_t from = next(s) % o.size();
+          m.insert(at, o.substr(from, 1 + next(s) % 64));
+        }
+        break;
+      }
+      default: m.insert(at, std::to_string(std::int64_t(next(s)))); break;  // a big number
     }
   }
   return m;

@@ -60,7 +60,8 @@ Outcome bake(const std::string& name, double cell, bool follow_loaf_crust = fals
     bonds = crust_bonds(solver.particles(), spacing, [](const Vec3& p) {
       return std::hypot(p.x(), p.y() - 0.05) > 0.033 && p.y() > 0.06 && std::abs(p.z()) < 0.07;
     });
-  while (solver.time() < scene.end_time - 1e-12) solver.step(std::min(solver.max_stable_dt(), scene.end_time - solver.time()));
+  while (solver.time() < scene.end_time - 1e-12)
+    solver.step(std::min(solver.max_stable_dt(), scene.end_time - solver.time()));
   const auto after = compute_body_stats(solver.particles(), 1, Vec3::UnitY())[0];
   Outcome out;
   if (follow_loaf_crust) {
@@ -85,10 +86,11 @@ TEST(MpmBakes, CookiesWithMoreLeavenerEndTallerAndTheBaselineCookieEndsLower) {
   const double cell = 0.005;  // scenes: 3 mm
   const Outcome low = bake("cookie-leavener-low", cell), medium = bake("cookie-leavener-medium", cell),
                 high = bake("cookie-leavener-high", cell), baseline = bake("cookie-baseline", cell);
-  std::printf("cookie heights: low %.2f, medium %.2f, high %.2f, baseline %.2f mm\n", low.height * 1e3, medium.height * 1e3,
-              high.height * 1e3, baseline.height * 1e3);
+  std::printf("cookie heights: low %.2f, medium %.2f, high %.2f, baseline %.2f mm\n", low.height * 1e3,
+              medium.height * 1e3, high.height * 1e3, baseline.height * 1e3);
   RecordProperty("heights_mm", std::to_string(low.height * 1e3) + " " + std::to_string(medium.height * 1e3) + " " +
-                                   std::to_string(high.height * 1e3) + " baseline " + std::to_string(baseline.height * 1e3));
+                                   std::to_string(high.height * 1e3) + " baseline " +
+                                   std::to_string(baseline.height * 1e3));
   EXPECT_LT(low.height, medium.height);
   EXPECT_LT(medium.height, high.height);
   EXPECT_LT(baseline.height, medium.height);

@@ -120,7 +120,7 @@ TEST(SetCrustSoftening, ActsOnlyOnDilationAfterSettingOfADriedParticle) {
   EXPECT_EQ(sc.softening_factor(1.5, 1.2, 0.5), 1.0);  // k = 0: the paper's law
   sc.set_softening = 60;
   sc.brittle_water_loss = 0.02;
-  EXPECT_EQ(sc.softening_factor(1.1, 1.2, 0.5), 1.0);   // compacted since setting
+  EXPECT_EQ(sc.softening_factor(1.1, 1.2, 0.5), 1.0);    // compacted since setting
   EXPECT_EQ(sc.softening_factor(1.32, 1.2, 0.02), 1.0);  // still moist: crumb
   // Fully brittle from twice the threshold: exp(−k (J/J_set − 1)).
   EXPECT_NEAR(sc.softening_factor(1.32, 1.2, 0.05), std::exp(-60 * 0.1), 1e-12);
@@ -142,6 +142,6 @@ TEST(Leavening, GenerationStopsWhenTheLeavenerIsSpent) {
   gas.amount = 1e-4;  // mol/kg: at most 0.1 mol per m³ of initial volume here
   EXPECT_NEAR(gas.generated(0.05, dt, 60, density), 0.06, 1e-12);
   EXPECT_DOUBLE_EQ(gas.generated(0.095, dt, 60, density), 0.1);
-  EXPECT_DOUBLE_EQ(gas.generated(0.1, dt, 60, density), 0.1);   // spent: no more
-  EXPECT_DOUBLE_EQ(gas.generated(0.12, dt, 60, density), 0.12); // never taken back
+  EXPECT_DOUBLE_EQ(gas.generated(0.1, dt, 60, density), 0.1);    // spent: no more
+  EXPECT_DOUBLE_EQ(gas.generated(0.12, dt, 60, density), 0.12);  // never taken back
 }

@@ -117,7 +117,7 @@ TEST(WallKernelShare, LatticeLayerAtHalfSpacingGetsTheMissingShareExactly) {
   EXPECT_GT(share.fraction(0.0), share.fraction(0.5 * s));
   for (double d = 0.001; d < 0.019; d += 0.0023) {
     const double e = 1e-6;
-    EXPECT_NEAR(share.slope(d), -(share.fraction(d + e) - share.fraction(d - e)) / (2 * e),
-                2e-3 * share.slope(0.0)) << "d = " << d;
+    EXPECT_NEAR(share.slope(d), -(share.fraction(d + e) - share.fraction(d - e)) / (2 * e), 2e-3 * share.slope(0.0))
+        << "d = " << d;
   }
 }

@@ -73,10 +73,10 @@ TEST(MpmLaws, VonMisesProjectsOntoTheYieldSurfaceAndKeepsVolume) {
   const Mat3 fe = compose(return_map(vm, lame, 1e-3, 1.0, svd3(f)));
   const Mat3 tau = kirchhoff_stress(Hencky{lame}, fe, svd3(fe));
   const Mat3 dev = tau - tau.trace() / 3 * Mat3::Identity();
-  EXPECT_NEAR(std::sqrt(1.5) * dev.norm(), 100.0, 1e-9);          // on f = 0
-  EXPECT_NEAR(fe.determinant(), f.determinant(), 1e-12);          // plastic flow is isochoric
+  EXPECT_NEAR(std::sqrt(1.5) * dev.norm(), 100.0, 1e-9);  // on f = 0
+  EXPECT_NEAR(fe.determinant(), f.determinant(), 1e-12);  // plastic flow is isochoric
   // Viscoplastic: part of the way back, by 1/(1 + 2μΔt/η).
-  const VonMises slow{100.0, 2 * lame.mu * 1e-3};                  // keep = 1/2
+  const VonMises slow{100.0, 2 * lame.mu * 1e-3};  // keep = 1/2
   const Mat3 fs = compose(return_map(slow, lame, 1e-3, 1.0, svd3(f)));
   const Mat3 ts = kirchhoff_stress(Hencky{lame}, fs, svd3(fs));
   const Mat3 tt = kirchhoff_stress(Hencky{lame}, f, svd3(f));

@@ -36,7 +36,9 @@ void expect_text_error(const std::string& text, const std::vector<std::string>& 
   }
 }
 
-void expect_error(const json& doc, const std::vector<std::string>& fragments) { expect_text_error(doc.dump(2), fragments); }
+void expect_error(const json& doc, const std::vector<std::string>& fragments) {
+  expect_text_error(doc.dump(2), fragments);
+}
 
 }  // namespace
 
@@ -60,7 +62,8 @@ TEST(Scene, ValidSceneResolvesEveryDefault) {
 }
 
 TEST(Scene, SyntaxErrorGivesLineAndColumn) {
-  expect_text_error("{\n  \"solver\": {\"type\": \"sph\"},\n  \"time\": {\"end\": 1,}\n}", {"scene.json:3:", "JSON syntax error"});
+  expect_text_error("{\n  \"solver\": {\"type\": \"sph\"},\n  \"time\": {\"end\": 1,}\n}",
+                    {"scene.json:3:", "JSON syntax error"});
   expect_text_error("{\n  \"solver\": \n", {"scene.json:3:", "JSON syntax error"});
 }
 
@@ -135,7 +138,8 @@ TEST(Scene, MissingMeshFileIsNamed) {
 TEST(Scene, UnreadableMeshFileIsNamed) {
   const auto dir = std::filesystem::temp_directory_path() / "bakesim_test_mesh";
   std::filesystem::create_directories(dir);
-  std::ofstream(dir / "broken.ply") << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nend_header\n0\n1\n2\n";
+  std::ofstream(dir / "broken.ply")
+      << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nend_header\n0\n1\n2\n";
   json d = base_scene();
   d["bodies"][0]["shape"] = {{"type", "mesh"}, {"file", (dir / "broken.ply").string()}};
   expect_error(d, {"bodies[0].shape.file", "broken.ply", "lacks x, y or z"});
@@ -156,16 +160,19 @@ TEST(Scene, BodyWithoutParticlesIsReported) {
 
 TEST(Scene, OverlappingBodiesAndBodiesInsideCollidersAreReported) {
   json d = base_scene();
-  d["bodies"].push_back({{"name", "ball"}, {"material", "water"},
+  d["bodies"].push_back({{"name", "ball"},
+                         {"material", "water"},
                          {"shape", {{"type", "sphere"}, {"center", {0.08, 0.08, 0.08}}, {"radius", 0.03}}}});
   try {
     make_solver(parse_scene(d.dump(), "scene.json", "."));
     FAIL() << "expected an overlap error";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("bodies[1]: body 'ball' overlaps body 'block'"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("bodies[1]: body 'ball' overlaps body 'block'"), std::string::npos)
+        << e.what();
   }
   json c = base_scene();
-  c["colliders"] = json::array({{{"name", "shelf"}, {"shape", {{"type", "box"}, {"min", {0.0, 0.0, 0.0}}, {"max", {0.2, 0.03, 0.2}}}}}});
+  c["colliders"] = json::array(
+      {{{"name", "shelf"}, {"shape", {{"type", "box"}, {"min", {0.0, 0.0, 0.0}}, {"max", {0.2, 0.03, 0.2}}}}}});
   try {
     make_solver(parse_scene(c.dump(), "scene.json", "."));
     FAIL() << "expected an inside-collider error";
@@ -176,14 +183,16 @@ TEST(Scene, OverlappingBodiesAndBodiesInsideCollidersAreReported) {
 
 TEST(Scene, MaterialPropertiesMayBeCurvesOfTemperature) {
   json d = base_scene();
-  d["materials"]["water"]["viscosity"] = {{"curve", "piecewise_linear"}, {"points", {{26, 0.1}, {45, 1.0}, {120, 5000.0}}}};
+  d["materials"]["water"]["viscosity"] = {{"curve", "piecewise_linear"},
+                                          {"points", {{26, 0.1}, {45, 1.0}, {120, 5000.0}}}};
   d["materials"]["water"]["xsph"] = {{"curve", "zhang_arctan"}, {"scale", 0.2}};
   const Scene s = parse_scene(d.dump(), "scene.json", ".");
   EXPECT_DOUBLE_EQ(evaluate(s.sph.materials[0].viscosity, 45.0), 1.0);
   EXPECT_DOUBLE_EQ(s.resolved["materials"]["water"]["xsph"]["centre"].get<double>(), 65.0);  // defaults filled
   json e = base_scene();
   e["materials"]["water"]["viscosity"] = {{"curve", "piecewise_linaer"}, {"points", {{0, 1}}}};
-  expect_error(e, {"materials.water.viscosity.curve", "unknown curve \"piecewise_linaer\"", "did you mean \"piecewise_linear\""});
+  expect_error(e, {"materials.water.viscosity.curve", "unknown curve \"piecewise_linaer\"",
+                   "did you mean \"piecewise_linear\""});
   json f = base_scene();
   f["materials"]["water"]["viscosity"] = {{"curve", "piecewise_linear"}, {"points", {{50, 1}, {40, 2}}}};
   expect_error(f, {"materials.water.viscosity.points[1]", "increase strictly"});

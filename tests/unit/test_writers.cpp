@@ -76,7 +76,8 @@ TEST(Writers, AtomicWriteReplacesWholeFilesAndReportsUnwritableDirectories) {
   std::stringstream ss;
   ss << in.rdbuf();
   EXPECT_EQ(ss.str(), "second");
-  for (const auto& e : fs::directory_iterator(dir)) EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos);
+  for (const auto& e : fs::directory_iterator(dir))
+    EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos);
   EXPECT_THROW(write_file_atomic("/no/such/dir/a.txt", "x"), IoError);
 }
 

@@ -22,9 +22,11 @@ json block(const json& adaptive) {
           {"gravity", {0, 0, 0}},
           {"domain", {{"min", {-0.05, -0.05, -0.05}}, {"max", {0.05, 0.05, 0.05}}}},
           {"materials", {{"dough", {{"density", 1000.0}, {"viscosity", 0.01}}}}},
-          {"bodies", json::array({{{"name", "block"}, {"material", "dough"},
-                                   {"shape", {{"type", "box"}, {"min", {-kHalf, -kHalf, -kHalf}},
-                                              {"max", {kHalf, kHalf, kHalf}}}}}})}};
+          {"bodies",
+           json::array(
+               {{{"name", "block"},
+                 {"material", "dough"},
+                 {"shape", {{"type", "box"}, {"min", {-kHalf, -kHalf, -kHalf}}, {"max", {kHalf, kHalf, kHalf}}}}}})}};
 }
 
 // Interior particles: a full support (1.5 h0 at most) from the surface.
@@ -98,8 +100,8 @@ TEST(AdaptiveSmoothing, FixedSmoothingLengthStaysExpandedAndLosesNeighbours) {
 }
 
 TEST(AdaptiveSmoothing, ZeroSensitivityGivesTheScaledFixedLength) {
-  auto solver = test_support::make_sph(
-      block({{"enabled", true}, {"sensitivity", 0.0}, {"scale", 1.1}, {"range", {0.8, 1.5}}}));
+  auto solver =
+      test_support::make_sph(block({{"enabled", true}, {"sensitivity", 0.0}, {"scale", 1.1}, {"range", {0.8, 1.5}}}));
   for (int s = 0; s < 3; ++s) solver->step(1e-5);
   for (double h : solver->particles().scalar("smoothing_length")) ASSERT_NEAR(h, 1.1 * solver->support(), 1e-15);
 }

@@ -17,13 +17,23 @@ namespace {
 constexpr double kSpacing = 0.002;
 
 json stretched_block(double epsilon, bool clamp) {
-  return {{"solver", {{"type", "sph"}, {"sph", {{"spacing", kSpacing}, {"speed_of_sound", 5.0}, {"negative_pressure", clamp ? "clamp" : "keep"}, {"artificial_stress", {{"epsilon", epsilon}}}}}}},
+  return {{"solver",
+           {{"type", "sph"},
+            {"sph",
+             {{"spacing", kSpacing},
+              {"speed_of_sound", 5.0},
+              {"negative_pressure", clamp ? "clamp" : "keep"},
+              {"artificial_stress", {{"epsilon", epsilon}}}}}}},
           {"time", {{"end", 1.0}}},
           {"gravity", {0, 0, 0}},
           {"domain", {{"min", {-0.1, -0.1, -0.1}}, {"max", {0.1, 0.1, 0.1}}}},
-          {"materials", {{"jelly", {{"density", 1000.0}, {"viscosity", 0.05}, {"elasticity", 5000.0}, {"relaxation_time", 100.0}}}}},
-          {"bodies", json::array({{{"name", "block"}, {"material", "jelly"},
-                                   {"shape", {{"type", "box"}, {"min", {-0.012, -0.012, -0.012}}, {"max", {0.012, 0.012, 0.012}}}}}})}};
+          {"materials",
+           {{"jelly", {{"density", 1000.0}, {"viscosity", 0.05}, {"elasticity", 5000.0}, {"relaxation_time", 100.0}}}}},
+          {"bodies",
+           json::array(
+               {{{"name", "block"},
+                 {"material", "jelly"},
+                 {"shape", {{"type", "box"}, {"min", {-0.012, -0.012, -0.012}}, {"max", {0.012, 0.012, 0.012}}}}}})}};
 }
 
 struct Spread {

@@ -19,8 +19,10 @@ json block_scene(double spacing) {
           {"gravity", {0, 0, 0}},
           {"domain", {{"min", {-0.05, -0.05, -0.05}}, {"max", {0.05, 0.05, 0.05}}}},
           {"materials", {{"dough", json::object()}}},
-          {"bodies", json::array({{{"name", "block"}, {"material", "dough"},
-                                   {"shape", {{"type", "box"}, {"min", {-0.02, -0.02, -0.02}}, {"max", {0.02, 0.02, 0.02}}}}}})}};
+          {"bodies",
+           json::array({{{"name", "block"},
+                         {"material", "dough"},
+                         {"shape", {{"type", "box"}, {"min", {-0.02, -0.02, -0.02}}, {"max", {0.02, 0.02, 0.02}}}}}})}};
 }
 
 }  // namespace
@@ -56,7 +58,9 @@ json hot_air_scene(double scale) {
           {"environment", {{"air_temperature", kAir}, {"heat_transfer_coefficient", kH}, {"bake_time_scale", scale}}},
           {"domain", {{"min", {-0.02, -0.02, -0.02}}, {"max", {0.02, 0.02, 0.02}}}},
           {"materials", {{"metal", {{"density", kRho}, {"specific_heat", kCp}, {"conductivity", 50.0}}}}},
-          {"bodies", json::array({{{"name", "ball"}, {"material", "metal"}, {"temperature", kT0},
+          {"bodies", json::array({{{"name", "ball"},
+                                   {"material", "metal"},
+                                   {"temperature", kT0},
                                    {"shape", {{"type", "sphere"}, {"center", {0, 0, 0}}, {"radius", kR}}}}})}};
 }
 

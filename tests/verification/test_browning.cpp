@@ -18,16 +18,21 @@ double zanoni_rate(double celsius) { return 42000.0 * std::exp(-64151.0 / (8.314
 
 json held_scene(const std::string& solver) {
   json s = {{"type", solver}, {"max_dt", 1e-3}};
-  if (solver == "mpm") s["mpm"] = {{"cell_size", 0.01}, {"heat", "explicit"}};
-  else s["sph"] = {{"spacing", 0.01}};
+  if (solver == "mpm")
+    s["mpm"] = {{"cell_size", 0.01}, {"heat", "explicit"}};
+  else
+    s["sph"] = {{"spacing", 0.01}};
   return {{"solver", s},
           {"time", {{"end", 1.0}}},
           {"gravity", {0, 0, 0}},
           {"environment", {{"air_temperature", kHeld}, {"bake_time_scale", 600.0}}},
           {"domain", {{"min", {-0.1, -0.1, -0.1}}, {"max", {0.1, 0.1, 0.1}}}},
           {"materials", {{"dough", {{"density", 1000.0}, {"youngs_modulus", 1e4}}}}},
-          {"bodies", json::array({{{"name", "crust"}, {"material", "dough"}, {"temperature", kHeld},
-                                   {"shape", {{"type", "box"}, {"min", {-0.02, -0.02, -0.02}}, {"max", {0.02, 0.02, 0.02}}}}}})}};
+          {"bodies",
+           json::array({{{"name", "crust"},
+                         {"material", "dough"},
+                         {"temperature", kHeld},
+                         {"shape", {{"type", "box"}, {"min", {-0.02, -0.02, -0.02}}, {"max", {0.02, 0.02, 0.02}}}}}})}};
 }
 
 void expect_closed_form(Solver& solver, double bake_time_scale) {

@@ -18,19 +18,28 @@ using nlohmann::json;
 namespace {
 
 json colliding_blocks(const std::string& search, bool adaptive = false) {
-  return {{"solver", {{"type", "sph"}, {"sph", {{"spacing", 0.01}, {"neighbour_search", search},
-                                                {"adaptive_smoothing", {{"enabled", adaptive}}},
-                                                {"artificial_viscosity", {{"alpha", 0.5}, {"beta", 1.0}}}}}}},
+  return {{"solver",
+           {{"type", "sph"},
+            {"sph",
+             {{"spacing", 0.01},
+              {"neighbour_search", search},
+              {"adaptive_smoothing", {{"enabled", adaptive}}},
+              {"artificial_viscosity", {{"alpha", 0.5}, {"beta", 1.0}}}}}}},
           {"time", {{"end", 1.0}}},
           {"gravity", {0, 0, 0}},
           {"domain", {{"min", {-1, -1, -1}}, {"max", {1, 1, 1}}}},
-          {"materials", {{"water", {{"density", 1000.0}, {"viscosity", 0.5}, {"xsph", 0.3}}},
-                         {"syrup", {{"density", 1400.0}, {"viscosity", 2.0}, {"xsph", 0.1}}}}},
-          {"bodies", json::array({
-              {{"name", "left"}, {"material", "water"}, {"velocity", {1.5, 0.2, 0}},
-               {"shape", {{"type", "box"}, {"min", {-0.12, -0.05, -0.05}}, {"max", {0.0, 0.05, 0.05}}}}},
-              {{"name", "right"}, {"material", "syrup"}, {"velocity", {-1.0, 0, 0.3}},
-               {"shape", {{"type", "sphere"}, {"center", {0.07, 0.02, 0}}, {"radius", 0.06}}}}})}};
+          {"materials",
+           {{"water", {{"density", 1000.0}, {"viscosity", 0.5}, {"xsph", 0.3}}},
+            {"syrup", {{"density", 1400.0}, {"viscosity", 2.0}, {"xsph", 0.1}}}}},
+          {"bodies",
+           json::array({{{"name", "left"},
+                         {"material", "water"},
+                         {"velocity", {1.5, 0.2, 0}},
+                         {"shape", {{"type", "box"}, {"min", {-0.12, -0.05, -0.05}}, {"max", {0.0, 0.05, 0.05}}}}},
+                        {{"name", "right"},
+                         {"material", "syrup"},
+                         {"velocity", {-1.0, 0, 0.3}},
+                         {"shape", {{"type", "sphere"}, {"center", {0.07, 0.02, 0}}, {"radius", 0.06}}}}})}};
 }
 
 Vec3 momentum(const ParticleSet& ps) {

@@ -19,8 +19,10 @@ json dam_break(double spacing) {
           {"time", {{"end", 0.3}}},
           {"domain", {{"min", {0, 0, 0}}, {"max", {4 * a, 3 * a, 0.5 * a}}}},
           {"materials", {{"water", {{"density", 1000.0}, {"viscosity", 1e-3}, {"xsph", 0.1}}}}},
-          {"bodies", {{{"name", "column"}, {"material", "water"},
-                       {"shape", {{"type", "box"}, {"min", {0, 0, 0}}, {"max", {a, 2 * a, 0.5 * a}}}}}}}};
+          {"bodies",
+           {{{"name", "column"},
+             {"material", "water"},
+             {"shape", {{"type", "box"}, {"min", {0, 0, 0}}, {"max", {a, 2 * a, 0.5 * a}}}}}}}};
 }
 
 }  // namespace

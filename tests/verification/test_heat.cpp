@@ -34,7 +34,10 @@ double slab_solution(double x, double fo) {
 json slab_scene(bool hold_faces) {
   const json box_min = {-kL, 0, 0}, box_max = {kL, kSide, kSide};
   auto layer = [&](double x0, double x1, const char* name) {
-    return json{{"name", name}, {"material", "metal"}, {"temperature", kTs}, {"hold_temperature", hold_faces},
+    return json{{"name", name},
+                {"material", "metal"},
+                {"temperature", kTs},
+                {"hold_temperature", hold_faces},
                 {"shape", {{"type", "box"}, {"min", {x0, 0, 0}}, {"max", {x1, kSide, kSide}}}}};
   };
   return {{"solver", {{"type", "sph"}, {"sph", {{"spacing", kS}}}}},
@@ -45,9 +48,12 @@ json slab_scene(bool hold_faces) {
           {"domain", {{"min", {-kL - 0.01, 0, 0}}, {"max", {kL + 0.01, kSide, kSide}}}},
           // α = k/(ρ c_p) = 2e-4 m²/s, so the slab heats through in about a second.
           {"materials", {{"metal", {{"density", 1000.0}, {"specific_heat", 1000.0}, {"conductivity", 200.0}}}}},
-          {"bodies", json::array({{{"name", "slab"}, {"material", "metal"}, {"temperature", kT0},
+          {"bodies", json::array({{{"name", "slab"},
+                                   {"material", "metal"},
+                                   {"temperature", kT0},
                                    {"shape", {{"type", "box"}, {"min", box_min}, {"max", box_max}}}},
-                                  layer(-kL - 0.01, -kL, "left"), layer(kL, kL + 0.01, "right")})}};
+                                  layer(-kL - 0.01, -kL, "left"),
+                                  layer(kL, kL + 0.01, "right")})}};
 }
 
 // Mean temperature of the slab's two centre layers, away from the side walls.
@@ -109,7 +115,8 @@ TEST(HeatConduction, ViscosityFollowsEachParticlesTemperature) {
   // stiffen first. (Table 4.1's 5000 Pa·s would need a 2.5e-8 s explicit
   // viscous step here; see docs/physics.md.)
   json scene = slab_scene(true);
-  scene["materials"]["metal"]["viscosity"] = {{"curve", "piecewise_linear"}, {"points", {{26, 0.1}, {45, 1.0}, {120, 2.0}}}};
+  scene["materials"]["metal"]["viscosity"] = {{"curve", "piecewise_linear"},
+                                              {"points", {{26, 0.1}, {45, 1.0}, {120, 2.0}}}};
   auto solver = test_support::make_sph(scene);
   test_support::advance_to(*solver, 0.2);
   const auto& t = solver->particles().scalar("temperature");
@@ -121,6 +128,6 @@ TEST(HeatConduction, ViscosityFollowsEachParticlesTemperature) {
     lo = std::min(lo, mu[i]);
     hi = std::max(hi, mu[i]);
   }
-  EXPECT_LT(lo, 0.2);   // the centre is still cold
-  EXPECT_GT(hi, 1.5);   // the held faces at 100 °C
+  EXPECT_LT(lo, 0.2);  // the centre is still cold
+  EXPECT_GT(hi, 1.5);  // the held faces at 100 °C
 }

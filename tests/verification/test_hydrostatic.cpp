@@ -18,8 +18,10 @@ TEST(Hydrostatic, MidDepthPressureIsRhoGH) {
       {"time", {{"end", 1.0}}},
       {"domain", {{"min", {0, 0, 0}}, {"max", {width, 0.15, depth}}}},
       {"materials", {{"water", {{"density", 1000.0}, {"viscosity", 1e-3}, {"xsph", 0.1}}}}},
-      {"bodies", {{{"name", "column"}, {"material", "water"},
-                   {"shape", {{"type", "box"}, {"min", {0, 0, 0}}, {"max", {width, height, depth}}}}}}}};
+      {"bodies",
+       {{{"name", "column"},
+         {"material", "water"},
+         {"shape", {{"type", "box"}, {"min", {0, 0, 0}}, {"max", {width, height, depth}}}}}}}};
   auto solver = test_support::make_sph(doc);
   // Let the start-up transient pass.
   test_support::advance_to(*solver, 0.2);

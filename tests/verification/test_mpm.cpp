@@ -50,7 +50,8 @@ TEST(Mpm, ElasticBarCarriesLongitudinalWavesAtSqrtEOverRho) {
   // mode v = v0 cos(π x / L): the end velocity reverses at T/2 = L / c.
   const double L = 1.0, E = 1e4, rho = 1.0, c = std::sqrt(E / rho);
   json doc = base_scene(0.02, {{"bar", {{"density", rho}, {"youngs_modulus", E}, {"poisson_ratio", 0.0}}}},
-                        json::array({{{"name", "bar"}, {"material", "bar"},
+                        json::array({{{"name", "bar"},
+                                      {"material", "bar"},
                                       {"shape", {{"type", "box"}, {"min", {0, 0, 0}}, {"max", {L, 0.04, 0.04}}}}}}),
                         {-0.1, -0.1, -0.1}, {1.1, 0.14, 0.14}, {0, 0, 0});
   auto s = make_mpm(doc);
@@ -75,10 +76,13 @@ TEST(Mpm, ElasticBarCarriesLongitudinalWavesAtSqrtEOverRho) {
 }
 
 TEST(Mpm, ApicConservesAngularMomentumOfASpinningBody) {
-  json doc = base_scene(0.02, {{"jelly", {{"density", 1000.0}, {"youngs_modulus", 1e5}, {"poisson_ratio", 0.3}}}},
-                        json::array({{{"name", "cube"}, {"material", "jelly"}, {"angular_velocity", {1.0, 3.0, -2.0}},
-                                      {"shape", {{"type", "box"}, {"min", {-0.08, -0.06, -0.07}}, {"max", {0.08, 0.06, 0.07}}}}}}),
-                        {-0.3, -0.3, -0.3}, {0.3, 0.3, 0.3}, {0, 0, 0});
+  json doc = base_scene(
+      0.02, {{"jelly", {{"density", 1000.0}, {"youngs_modulus", 1e5}, {"poisson_ratio", 0.3}}}},
+      json::array({{{"name", "cube"},
+                    {"material", "jelly"},
+                    {"angular_velocity", {1.0, 3.0, -2.0}},
+                    {"shape", {{"type", "box"}, {"min", {-0.08, -0.06, -0.07}}, {"max", {0.08, 0.06, 0.07}}}}}}),
+      {-0.3, -0.3, -0.3}, {0.3, 0.3, 0.3}, {0, 0, 0});
   auto s = make_mpm(doc);
   const double d = s->cell_size() * s->cell_size() / 4;  // APIC's D for quadratic B-splines
   auto angular_momentum = [&] {
@@ -103,12 +107,16 @@ TEST(Mpm, ApicConservesAngularMomentumOfASpinningBody) {
 TEST(Mpm, BlockSlidesDownAnInclineAtGTimesSinMinusMuCos) {
   // The incline is the floor with gravity tilted by α.
   const double alpha = 30.0 * kPi / 180, mu = 0.2, g = 9.81;
-  json doc = base_scene(0.01, {{"block", {{"density", 1000.0}, {"youngs_modulus", 1e6}, {"poisson_ratio", 0.3}}}},
-                        json::array({{{"name", "block"}, {"material", "block"},
-                                      {"shape", {{"type", "box"}, {"min", {-0.3, 0.05, -0.04}}, {"max", {-0.22, 0.09, 0.04}}}}}}),
-                        {-0.4, 0.0, -0.1}, {0.4, 0.2, 0.1}, {g * std::sin(alpha), -g * std::cos(alpha), 0});
-  doc["colliders"] = json::array({{{"name", "incline"}, {"shape", {{"type", "plane"}, {"point", {0, 0.05, 0}}, {"normal", {0, 1, 0}}}},
-                                   {"contact", "separate"}, {"friction", mu}}});
+  json doc = base_scene(
+      0.01, {{"block", {{"density", 1000.0}, {"youngs_modulus", 1e6}, {"poisson_ratio", 0.3}}}},
+      json::array({{{"name", "block"},
+                    {"material", "block"},
+                    {"shape", {{"type", "box"}, {"min", {-0.3, 0.05, -0.04}}, {"max", {-0.22, 0.09, 0.04}}}}}}),
+      {-0.4, 0.0, -0.1}, {0.4, 0.2, 0.1}, {g * std::sin(alpha), -g * std::cos(alpha), 0});
+  doc["colliders"] = json::array({{{"name", "incline"},
+                                   {"shape", {{"type", "plane"}, {"point", {0, 0.05, 0}}, {"normal", {0, 1, 0}}}},
+                                   {"contact", "separate"},
+                                   {"friction", mu}}});
   auto s = make_mpm(doc);
   auto all = [](const Vec3&) { return true; };
   // Let the contact settle, then measure the acceleration over 0.15 s.
@@ -125,12 +133,19 @@ namespace {
 
 // Height of a 10 cm von Mises column after 0.5 s, relative to its start.
 double column_height_ratio(double yield_stress) {
-  json doc = base_scene(0.01, {{"dough", {{"density", 1000.0}, {"youngs_modulus", 2e5}, {"poisson_ratio", 0.3},
-                                          {"plasticity", {{"model", "von_mises"}, {"yield_stress", yield_stress}}}}}},
-                        json::array({{{"name", "column"}, {"material", "dough"},
-                                      {"shape", {{"type", "box"}, {"min", {-0.03, 0.02, -0.03}}, {"max", {0.03, 0.12, 0.03}}}}}}),
-                        {-0.25, 0.0, -0.25}, {0.25, 0.2, 0.25}, {0, -9.81, 0});
-  doc["colliders"] = json::array({{{"name", "floor"}, {"shape", {{"type", "plane"}, {"point", {0, 0.02, 0}}, {"normal", {0, 1, 0}}}},
+  json doc = base_scene(
+      0.01,
+      {{"dough",
+        {{"density", 1000.0},
+         {"youngs_modulus", 2e5},
+         {"poisson_ratio", 0.3},
+         {"plasticity", {{"model", "von_mises"}, {"yield_stress", yield_stress}}}}}},
+      json::array({{{"name", "column"},
+                    {"material", "dough"},
+                    {"shape", {{"type", "box"}, {"min", {-0.03, 0.02, -0.03}}, {"max", {0.03, 0.12, 0.03}}}}}}),
+      {-0.25, 0.0, -0.25}, {0.25, 0.2, 0.25}, {0, -9.81, 0});
+  doc["colliders"] = json::array({{{"name", "floor"},
+                                   {"shape", {{"type", "plane"}, {"point", {0, 0.02, 0}}, {"normal", {0, 1, 0}}}},
                                    {"contact", "sticky"}}});
   auto s = make_mpm(doc);
   auto top = [&] {
@@ -156,11 +171,18 @@ TEST(Mpm, VonMisesColumnStandsAboveItsYieldStressAndSlumpsBelow) {
 }
 
 TEST(Mpm, SameResultOnOneAndTwoThreads) {
-  json doc = base_scene(0.02, {{"jelly", {{"density", 1000.0}, {"youngs_modulus", 1e5}, {"poisson_ratio", 0.3},
-                                          {"plasticity", {{"model", "von_mises"}, {"yield_stress", 500.0}}}}}},
-                        json::array({{{"name", "cube"}, {"material", "jelly"}, {"velocity", {0.5, -1.0, 0.2}},
-                                      {"shape", {{"type", "box"}, {"min", {-0.1, 0.1, -0.1}}, {"max", {0.1, 0.2, 0.1}}}}}}),
-                        {-0.3, 0.0, -0.3}, {0.3, 0.4, 0.3}, {0, -9.81, 0});
+  json doc =
+      base_scene(0.02,
+                 {{"jelly",
+                   {{"density", 1000.0},
+                    {"youngs_modulus", 1e5},
+                    {"poisson_ratio", 0.3},
+                    {"plasticity", {{"model", "von_mises"}, {"yield_stress", 500.0}}}}}},
+                 json::array({{{"name", "cube"},
+                               {"material", "jelly"},
+                               {"velocity", {0.5, -1.0, 0.2}},
+                               {"shape", {{"type", "box"}, {"min", {-0.1, 0.1, -0.1}}, {"max", {0.1, 0.2, 0.1}}}}}}),
+                 {-0.3, 0.0, -0.3}, {0.3, 0.4, 0.3}, {0, -9.81, 0});
   auto run = [&](int threads) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
     auto s = make_mpm(doc);
@@ -175,19 +197,25 @@ TEST(Mpm, SameResultOnOneAndTwoThreads) {
 TEST(Mpm, StickyGripsCarryTheDoughWithTheirScriptedMotion) {
   // A vertical elastic cylinder held by a fixed grip below and a grip above
   // that rises at 5 cm/s while turning at 1 rad/s about the axis.
-  json doc = base_scene(0.005, {{"dough", {{"density", 1000.0}, {"youngs_modulus", 2e4}, {"poisson_ratio", 0.3}}}},
-                        json::array({{{"name", "dough"}, {"material", "dough"},
-                                      {"shape", {{"type", "cylinder"}, {"center", {0, 0.05, 0}}, {"radius", 0.01}, {"height", 0.06}}}}}),
-                        {-0.05, -0.02, -0.05}, {0.05, 0.15, 0.05}, {0, -9.81, 0});
+  json doc = base_scene(
+      0.005, {{"dough", {{"density", 1000.0}, {"youngs_modulus", 2e4}, {"poisson_ratio", 0.3}}}},
+      json::array({{{"name", "dough"},
+                    {"material", "dough"},
+                    {"shape", {{"type", "cylinder"}, {"center", {0, 0.05, 0}}, {"radius", 0.01}, {"height", 0.06}}}}}),
+      {-0.05, -0.02, -0.05}, {0.05, 0.15, 0.05}, {0, -9.81, 0});
   auto grip = [](double y) {
     return json{{"type", "cylinder"}, {"center", {0, y, 0}}, {"radius", 0.015}, {"height", 0.012}};
   };
   doc["colliders"] = json::array(
       {{{"name", "bottom"}, {"shape", grip(0.026)}, {"contact", "sticky"}},
-       {{"name", "top"}, {"shape", grip(0.074)}, {"contact", "sticky"},
-        {"motion", {{"pivot", {0, 0.074, 0}},
-                    {"keyframes", json::array({{{"time", 0.0}},
-                                               {{"time", 1.0}, {"translation", {0, 0.05, 0}}, {"rotation_deg", {0, 180.0 / kPi, 0}}}})}}}}});
+       {{"name", "top"},
+        {"shape", grip(0.074)},
+        {"contact", "sticky"},
+        {"motion",
+         {{"pivot", {0, 0.074, 0}},
+          {"keyframes",
+           json::array({{{"time", 0.0}},
+                        {{"time", 1.0}, {"translation", {0, 0.05, 0}}, {"rotation_deg", {0, 180.0 / kPi, 0}}}})}}}}});
   auto s = make_mpm(doc);
   Real t = 0;
   while (t < 0.4) {
@@ -228,12 +256,16 @@ TEST(Mpm, BlockComesToRestOnATriangleMeshCollider) {
          "v -0.05 0 0.05\nv 0.05 0 0.05\nv 0.05 0.05 0.05\nv -0.05 0.05 0.05\n"
          "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 4 8 7 3\nf 1 5 8 4\nf 2 3 7 6\n";
   }
-  json doc = base_scene(0.005, {{"jelly", {{"density", 1000.0}, {"youngs_modulus", 5e4}, {"poisson_ratio", 0.3}}}},
-                        json::array({{{"name", "block"}, {"material", "jelly"},
-                                      {"shape", {{"type", "box"}, {"min", {-0.02, 0.07, -0.02}}, {"max", {0.02, 0.1, 0.02}}}}}}),
-                        {-0.1, -0.02, -0.1}, {0.1, 0.15, 0.1}, {0, -9.81, 0});
-  doc["colliders"] = json::array({{{"name", "table"}, {"shape", {{"type", "mesh"}, {"file", (dir / "table.obj").string()}}},
-                                   {"contact", "separate"}, {"friction", 0.5}}});
+  json doc = base_scene(
+      0.005, {{"jelly", {{"density", 1000.0}, {"youngs_modulus", 5e4}, {"poisson_ratio", 0.3}}}},
+      json::array({{{"name", "block"},
+                    {"material", "jelly"},
+                    {"shape", {{"type", "box"}, {"min", {-0.02, 0.07, -0.02}}, {"max", {0.02, 0.1, 0.02}}}}}}),
+      {-0.1, -0.02, -0.1}, {0.1, 0.15, 0.1}, {0, -9.81, 0});
+  doc["colliders"] = json::array({{{"name", "table"},
+                                   {"shape", {{"type", "mesh"}, {"file", (dir / "table.obj").string()}}},
+                                   {"contact", "separate"},
+                                   {"friction", 0.5}}});
   auto s = make_mpm(doc);
   const auto& x = s->particles().vector("position");
   auto lowest = [&] {
@@ -262,13 +294,18 @@ TEST(Mpm, NothingPassesThroughAPlateThinnerThanTwoCells) {
   // (nodes inside it are sparse, as under the pancake's receiving pan): no
   // particle may end up inside the plate or below it.
   const Real dx = 0.01, top = 0.05, thickness = 1.2 * dx;
-  json doc = base_scene(dx, {{"dough", {{"density", 1200.0}, {"youngs_modulus", 3e3}, {"poisson_ratio", 0.3}}}},
-                        json::array({{{"name", "block"}, {"material", "dough"}, {"velocity", {0, -3.0, 0}},
-                                      {"shape", {{"type", "box"}, {"min", {-0.04, 0.07, -0.04}}, {"max", {0.04, 0.11, 0.04}}}}}}),
-                        {-0.1, -0.02, -0.1}, {0.1, 0.15, 0.1}, {0, -9.81, 0});
-  doc["colliders"] = json::array({{{"name", "plate"},
-                                   {"shape", {{"type", "box"}, {"min", {-0.08, top - thickness, -0.08}}, {"max", {0.08, top, 0.08}}}},
-                                   {"contact", "separate"}, {"friction", 0.3}}});
+  json doc = base_scene(
+      dx, {{"dough", {{"density", 1200.0}, {"youngs_modulus", 3e3}, {"poisson_ratio", 0.3}}}},
+      json::array({{{"name", "block"},
+                    {"material", "dough"},
+                    {"velocity", {0, -3.0, 0}},
+                    {"shape", {{"type", "box"}, {"min", {-0.04, 0.07, -0.04}}, {"max", {0.04, 0.11, 0.04}}}}}}),
+      {-0.1, -0.02, -0.1}, {0.1, 0.15, 0.1}, {0, -9.81, 0});
+  doc["colliders"] =
+      json::array({{{"name", "plate"},
+                    {"shape", {{"type", "box"}, {"min", {-0.08, top - thickness, -0.08}}, {"max", {0.08, top, 0.08}}}},
+                    {"contact", "separate"},
+                    {"friction", 0.3}}});
   auto s = make_mpm(doc);
   const auto& x = s->particles().vector("position");
   Real t = 0, lowest_ever = 1;

@@ -57,14 +57,19 @@ json slab_scene(const Slab& s, json material, json environment, json colliders, 
           {"environment", environment},
           {"domain", {{"min", {-s.L - pad, -pad, -pad}}, {"max", {s.L + pad, s.W + pad, s.W + pad}}}},
           {"materials", {{"slab", material}}},
-          {"bodies", json::array({{{"name", "slab"}, {"material", "slab"}, {"temperature", 20.0},
+          {"bodies", json::array({{{"name", "slab"},
+                                   {"material", "slab"},
+                                   {"temperature", 20.0},
                                    {"shape", {{"type", "box"}, {"min", {-s.L, 0, 0}}, {"max", {s.L, s.W, s.W}}}}}})},
           {"colliders", colliders}};
 }
 
 json plate(const std::string& name, json lo, json hi, double temperature, double beta) {
-  return {{"name", name}, {"shape", {{"type", "box"}, {"min", lo}, {"max", hi}}}, {"contact", "sticky"},
-          {"temperature", temperature}, {"heat_transfer_coefficient", beta}};
+  return {{"name", name},
+          {"shape", {{"type", "box"}, {"min", lo}, {"max", hi}}},
+          {"contact", "sticky"},
+          {"temperature", temperature},
+          {"heat_transfer_coefficient", beta}};
 }
 
 double centre_value(const mpm::MpmSolver& s, const std::string& quantity, double half_width) {
@@ -89,9 +94,9 @@ TEST_P(SlabHeat, CentreTemperatureFollowsThePlaneWallSeries) {
   const double pad = 3 * s.dx + 0.006, far = 1.0;
   const json material = {{"density", rho}, {"specific_heat", cp}, {"conductivity", kappa}, {"youngs_modulus", 1e3}};
   // Hot plates on the x faces, insulated y and z faces (air with h = 0); bake clock 2000.
-  const json colliders = json::array(
-      {plate("left", {-s.L - pad - far, -far, -far}, {-s.L, s.W + far, s.W + far}, t_inf, h),
-       plate("right", {s.L, -far, -far}, {s.L + pad + far, s.W + far, s.W + far}, t_inf, h)});
+  const json colliders =
+      json::array({plate("left", {-s.L - pad - far, -far, -far}, {-s.L, s.W + far, s.W + far}, t_inf, h),
+                   plate("right", {s.L, -far, -far}, {s.L + pad + far, s.W + far, s.W + far}, t_inf, h)});
   const json env = {{"air_temperature", t0}, {"heat_transfer_coefficient", 0.0}, {"bake_time_scale", 2000.0}};
   auto solver = make_mpm(slab_scene(s, material, env, colliders, GetParam()));
   const double alpha = kappa / (rho * cp), biot = h * s.L / kappa;
@@ -120,13 +125,13 @@ TEST(MpmBaking, SlabDriesLikeThePlaneWallSeriesAndTheWaterBudgetCloses) {
   const Slab s;
   const double D = 1e-8, E = 5e-4, s0 = 0.5, theta = 100;
   const double pad = 3 * s.dx + 0.006, far = 1.0;
-  const json material = {{"density", 1000.0}, {"youngs_modulus", 1e3},
+  const json material = {{"density", 1000.0},
+                         {"youngs_modulus", 1e3},
                          {"water", {{"saturation", s0}, {"diffusivity", D}, {"evaporation_rate", E}}}};
-  const json colliders = json::array(
-      {plate("bottom", {-far, -pad - far, -far}, {far, 0, far}, theta, 10),
-       plate("top", {-far, s.W, -far}, {far, s.W + pad + far, far}, theta, 10),
-       plate("back", {-far, -far, -pad - far}, {far, far, 0}, theta, 10),
-       plate("front", {-far, -far, s.W}, {far, far, s.W + pad + far}, theta, 10)});
+  const json colliders = json::array({plate("bottom", {-far, -pad - far, -far}, {far, 0, far}, theta, 10),
+                                      plate("top", {-far, s.W, -far}, {far, s.W + pad + far, far}, theta, 10),
+                                      plate("back", {-far, -far, -pad - far}, {far, far, 0}, theta, 10),
+                                      plate("front", {-far, -far, s.W}, {far, far, s.W + pad + far}, theta, 10)});
   const json env = {{"air_temperature", theta}, {"heat_transfer_coefficient", 10.0}, {"bake_time_scale", 1e5}};
   json doc = slab_scene(s, material, env, colliders, "explicit");
   doc["bodies"][0]["temperature"] = theta;
@@ -140,8 +145,10 @@ TEST(MpmBaking, SlabDriesLikeThePlaneWallSeriesAndTheWaterBudgetCloses) {
     const double expected = plane_wall_centre(biot, fo);
     {
       const auto& a = solver->particles().scalar("air_area");
-      double area = 0; for (double v : a) area += v;
-      printf("Fo %g centre %g expected %g; total water %g; air area %g (2W^2 %g)\n", fo, measured, expected, solver->total_water() / initial, area, 2 * s.W * s.W);
+      double area = 0;
+      for (double v : a) area += v;
+      printf("Fo %g centre %g expected %g; total water %g; air area %g (2W^2 %g)\n", fo, measured, expected,
+             solver->total_water() / initial, area, 2 * s.W * s.W);
     }
     EXPECT_NEAR(measured, expected, 0.05 * expected) << "Fo " << fo;
     // Budget to round-off: water is only lost through the surface.
@@ -155,22 +162,28 @@ TEST(MpmBaking, Co2GeneratedAtAHeldTemperatureMatchesTheRateLawAndRaisesTheBlock
   // A porous Cam-clay block held at θ = θ_r + Δθ/2 (body and air alike):
   // n = a ρ₀ exp(−1/4) t per unit initial volume; its pressure expands the block.
   const double a = 2e-5, rho = 500, peak = 40, width = 20, theta = peak + 0.5 * width;
-  json doc = {{"solver", {{"type", "mpm"}, {"mpm", {{"cell_size", 0.004}, {"heat", "explicit"}}}, {"max_dt", 1e-3}}},
-              {"time", {{"end", 1.0}}},
-              {"gravity", {0, 0, 0}},
-              {"environment", {{"air_temperature", theta}, {"heat_transfer_coefficient", 10.0}, {"bake_time_scale", 10.0}}},
-              {"domain", {{"min", {-0.06, -0.06, -0.06}}, {"max", {0.06, 0.06, 0.06}}}},
-              {"materials", {{"dough", {{"density", rho}, {"youngs_modulus", 2e4},
-                                        {"plasticity", {{"model", "cam_clay"}, {"yield_stress", 50.0}, {"viscosity", 0.0},
-                                                        {"initial_porosity", 0.2}}},
-                                        {"leavening", {{"rate", a}, {"peak_temperature", peak}, {"width", width}}}}}}},
-              {"bodies", json::array({{{"name", "block"}, {"material", "dough"}, {"temperature", theta},
-                                       {"shape", {{"type", "box"}, {"min", {-0.02, -0.02, -0.02}}, {"max", {0.02, 0.02, 0.02}}}}}})}};
+  json doc = {
+      {"solver", {{"type", "mpm"}, {"mpm", {{"cell_size", 0.004}, {"heat", "explicit"}}}, {"max_dt", 1e-3}}},
+      {"time", {{"end", 1.0}}},
+      {"gravity", {0, 0, 0}},
+      {"environment", {{"air_temperature", theta}, {"heat_transfer_coefficient", 10.0}, {"bake_time_scale", 10.0}}},
+      {"domain", {{"min", {-0.06, -0.06, -0.06}}, {"max", {0.06, 0.06, 0.06}}}},
+      {"materials",
+       {{"dough",
+         {{"density", rho},
+          {"youngs_modulus", 2e4},
+          {"plasticity",
+           {{"model", "cam_clay"}, {"yield_stress", 50.0}, {"viscosity", 0.0}, {"initial_porosity", 0.2}}},
+          {"leavening", {{"rate", a}, {"peak_temperature", peak}, {"width", width}}}}}}},
+      {"bodies",
+       json::array({{{"name", "block"},
+                     {"material", "dough"},
+                     {"temperature", theta},
+                     {"shape", {{"type", "box"}, {"min", {-0.02, -0.02, -0.02}}, {"max", {0.02, 0.02, 0.02}}}}}})}};
   auto solver = make_mpm(doc);
   const double v0 = 0.04 * 0.04 * 0.04;
-  const double volume0 = deterministic_sum(solver->particles().size(), [&](std::size_t i) {
-    return solver->particles().scalar("initial_volume")[i];
-  });
+  const double volume0 = deterministic_sum(
+      solver->particles().size(), [&](std::size_t i) { return solver->particles().scalar("initial_volume")[i]; });
   EXPECT_NEAR(volume0, v0, 1e-9);
   test_support::advance_to(*solver, 0.2);
   const double bake = solver->bake_time();

@@ -17,7 +17,9 @@ using namespace bakesim::render;
 
 namespace {
 
-surface::SurfaceParticles ball(Real radius, Real s) { return test_support::lattice_ball(radius, s, Vec3(0, radius, 0)); }
+surface::SurfaceParticles ball(Real radius, Real s) {
+  return test_support::lattice_ball(radius, s, Vec3(0, radius, 0));
+}
 
 // Mean "brownness" (how far below cream white) of pixels in a column range.
 double brownness(const Image& img, int x0, int x1) {
@@ -101,7 +103,8 @@ TEST(Plot, NiceTicksAndALineWhereTheDataAre) {
   for (int y = 0; y < img.height; ++y)
     for (int x = 200; x < 380; ++x) {
       const std::uint8_t* p = img.at(x, y);
-      if (std::abs(p[0] - 31) < 20 && std::abs(p[1] - 119) < 20 && std::abs(p[2] - 180) < 20) found = std::max(found, y);
+      if (std::abs(p[0] - 31) < 20 && std::abs(p[1] - 119) < 20 && std::abs(p[2] - 180) < 20)
+        found = std::max(found, y);
     }
   const int top = 50, bottom = 300 - 70;
   EXPECT_NEAR(found, (top + bottom) / 2, 12);

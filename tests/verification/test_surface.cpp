@@ -20,7 +20,8 @@ json sphere_scene(const std::string& method) {
           {"gravity", {0, 0, 0}},
           {"domain", {{"min", {-0.05, -0.05, -0.05}}, {"max", {0.05, 0.05, 0.05}}}},
           {"materials", {{"dough", json::object()}}},
-          {"bodies", json::array({{{"name", "ball"}, {"material", "dough"},
+          {"bodies", json::array({{{"name", "ball"},
+                                   {"material", "dough"},
                                    {"shape", {{"type", "sphere"}, {"center", {0, 0, 0}}, {"radius", kR}}}}})}};
 }
 

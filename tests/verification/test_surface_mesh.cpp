@@ -41,7 +41,9 @@ void expect_closed_sphere(SurfaceMethod method) {
 
 }  // namespace
 
-TEST(SurfaceMesh, LevelSetSphereIsClosedOrientedAndHasTheSphereVolume) { expect_closed_sphere(SurfaceMethod::levelset); }
+TEST(SurfaceMesh, LevelSetSphereIsClosedOrientedAndHasTheSphereVolume) {
+  expect_closed_sphere(SurfaceMethod::levelset);
+}
 TEST(SurfaceMesh, WyvillSphereIsClosedOrientedAndHasTheSphereVolume) { expect_closed_sphere(SurfaceMethod::wyvill); }
 
 TEST(SurfaceMesh, WyvillInteriorValueMatchesALatticeSum) {

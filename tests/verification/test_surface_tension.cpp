@@ -19,9 +19,12 @@ double corner_reach(double sigma) {
       {"time", {{"end", 1.0}}},
       {"gravity", {0, 0, 0}},
       {"domain", {{"min", {-0.1, -0.1, -0.1}}, {"max", {0.1, 0.1, 0.1}}}},
-      {"materials", {{"liquid", {{"density", 1000.0}, {"viscosity", 0.05}, {"surface_tension", sigma}, {"xsph", 0.1}}}}},
-      {"bodies", {{{"name", "cube"}, {"material", "liquid"},
-                   {"shape", {{"type", "box"}, {"min", {-0.025, -0.025, -0.025}}, {"max", {0.025, 0.025, 0.025}}}}}}}};
+      {"materials",
+       {{"liquid", {{"density", 1000.0}, {"viscosity", 0.05}, {"surface_tension", sigma}, {"xsph", 0.1}}}}},
+      {"bodies",
+       {{{"name", "cube"},
+         {"material", "liquid"},
+         {"shape", {{"type", "box"}, {"min", {-0.025, -0.025, -0.025}}, {"max", {0.025, 0.025, 0.025}}}}}}}};
   auto solver = test_support::make_sph(doc);
   test_support::advance_to(*solver, 0.15);
   const auto& x = solver->particles().vector("position");
