@@ -22,6 +22,5 @@ struct Aabb {
 };
 
 constexpr Real kPi = 3.14159265358979323846;
-constexpr Real kZeroCelsiusInKelvin = 273.15;
 
 }  // namespace bakesim

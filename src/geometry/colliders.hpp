@@ -12,7 +12,9 @@
 #include <variant>
 #include <vector>
 
+#include "geometry/contact.hpp"
 #include "geometry/mesh.hpp"
+#include "geometry/motion.hpp"
 #include "physics/curves.hpp"
 
 namespace bakesim {
@@ -91,11 +93,14 @@ struct MeshCollider {
 using ColliderGeometry = std::variant<PlaneCollider, BoxCollider, ContainerCollider, CylinderCollider, CupCollider,
                                       InsideBoxCollider, MeshCollider>;
 
+// One collider for both solvers: its geometry in the rest pose, the contact
+// law (geometry/contact.hpp), an optional scripted rigid motion, and an
+// optional surface temperature.
 struct Collider {
   std::string name;
   ColliderGeometry geometry;
-  Real friction = 0.0;  // 0: free slip (thesis β_c = 1), 1: no slip (β_c = 0)
-  Real damping = 1.0;   // 1: normal velocity removed (α_c = 0), 0: elastic bounce (α_c = 1)
+  ContactLaw contact;
+  RigidMotion motion;  // no keyframes: the collider stays in its rest pose
   // °C over bake time (a constant or a schedule); particles touching it
   // exchange heat with it when set.
   std::optional<PiecewiseLinear> temperature;

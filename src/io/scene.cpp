@@ -167,6 +167,15 @@ BrowningKinetics build_browning(const json& b) {
           b["activation_energy"].get<double>()};
 }
 
+Oven build_oven(const Ctx& c, const json& env) {
+  Oven oven;
+  oven.air_temperature = build_schedule(c, "environment.air_temperature", env["air_temperature"]);
+  oven.heat_transfer_coefficient = env["heat_transfer_coefficient"].get<double>();
+  oven.bake_time_scale = env["bake_time_scale"].get<double>();
+  oven.browning = build_browning(env["browning"]);
+  return oven;
+}
+
 std::pair<int, int> line_column(const std::string& text, std::size_t byte) {
   int line = 1, col = 1;
   for (std::size_t i = 0; i + 1 < byte && i < text.size(); ++i) {
@@ -295,9 +304,9 @@ mpm::Setup build_mpm_setup(const Ctx& c, const json& doc, const sph::Setup& sph)
   for (std::size_t i = 0; i < doc["colliders"].size(); ++i) {
     const json& cj = doc["colliders"][i];
     const std::string path = fmt::format("colliders[{}]", i);
-    mpm::GridCollider g;
-    g.collider.name = cj["name"].get<std::string>();
-    g.collider.geometry = build_collider_geometry(c, path + ".shape", cj["shape"], st.cell_size);
+    Collider g;
+    g.name = cj["name"].get<std::string>();
+    g.geometry = build_collider_geometry(c, path + ".shape", cj["shape"], st.cell_size);
     // A cup or container wall under two cells thick has grid nodes inside it
     // that are nearer its far face: their contact normal points the wrong way
     // and material sinks into the wall (the muffin cups did).
@@ -308,26 +317,23 @@ mpm::Setup build_mpm_setup(const Ctx& c, const json& doc, const sph::Setup& sph)
                  "{} m is thinner than two MPM cells ({} m): material would sink into the wall; make it at least {} m",
                  cj["shape"]["wall_thickness"].get<double>(), st.cell_size, 2 * st.cell_size));
     // Meshes act through a signed distance grid at half the MPM cell size.
-    if (const auto* mesh = std::get_if<MeshCollider>(&g.collider.geometry))
-      g.collider.geometry = mesh->with_signed_distance(0.5 * st.cell_size, 3 * st.cell_size);
+    if (const auto* mesh = std::get_if<MeshCollider>(&g.geometry))
+      g.geometry = mesh->with_signed_distance(0.5 * st.cell_size, 3 * st.cell_size);
     if (cj.contains("motion")) g.motion = build_motion(c, path + ".motion", cj["motion"]);
     const std::string contact = cj["contact"].get<std::string>();
-    g.contact = contact == "sticky" ? mpm::Contact::sticky
-                : contact == "slip" ? mpm::Contact::slip
-                                    : mpm::Contact::separate;
-    g.friction = cj["friction"].get<double>();
-    if (!cj["temperature"].is_null())
-      g.collider.temperature = build_schedule(c, path + ".temperature", cj["temperature"]);
-    g.collider.heat_transfer_coefficient = cj["heat_transfer_coefficient"].get<double>();
+    g.contact.mode = contact == "sticky" ? ContactMode::sticky
+                     : contact == "slip" ? ContactMode::slip
+                                         : ContactMode::separate;
+    g.contact.friction_model = FrictionModel::coulomb;
+    g.contact.friction = cj["friction"].get<double>();
+    if (!cj["temperature"].is_null()) g.temperature = build_schedule(c, path + ".temperature", cj["temperature"]);
+    g.heat_transfer_coefficient = cj["heat_transfer_coefficient"].get<double>();
     setup.colliders.push_back(std::move(g));
   }
   setup.domain = {vec3(doc["domain"]["min"]), vec3(doc["domain"]["max"])};
-  setup.domain_friction = doc["domain"]["friction"].get<double>();
+  setup.domain_contact.friction = doc["domain"]["friction"].get<double>();
   setup.gravity = vec3(doc["gravity"]);
-  setup.air_temperature = build_schedule(c, "environment.air_temperature", doc["environment"]["air_temperature"]);
-  setup.heat_transfer_coefficient = doc["environment"]["heat_transfer_coefficient"].get<double>();
-  st.bake_time_scale = doc["environment"]["bake_time_scale"].get<double>();
-  setup.browning = build_browning(doc["environment"]["browning"]);
+  setup.oven = build_oven(c, doc["environment"]);
   st.baseline = mj["model"].get<std::string>() == "baseline";
   st.heat_tolerance = mj["heat_tolerance"].get<double>();
   st.heat_max_iterations = mj["heat_max_iterations"].get<int>();
@@ -341,11 +347,11 @@ mpm::Setup build_mpm_setup(const Ctx& c, const json& doc, const sph::Setup& sph)
   else {
     // auto: heat when anything thermal can happen.
     bool thermal = false;
-    const auto& air = setup.air_temperature.points();
+    const auto& air = setup.oven.air_temperature.points();
     for (const auto& b : setup.bodies)
-      for (const auto& [t, v] : air) thermal |= setup.heat_transfer_coefficient > 0 && v != b.temperature;
+      for (const auto& [t, v] : air) thermal |= setup.oven.heat_transfer_coefficient > 0 && v != b.temperature;
     for (const auto& b : setup.bodies) thermal |= b.temperature != setup.bodies.front().temperature;
-    for (const auto& g : setup.colliders) thermal |= g.collider.temperature.has_value();
+    for (const auto& g : setup.colliders) thermal |= g.temperature.has_value();
     for (const auto& m : setup.materials) thermal |= m.water.active() || m.gas.active() || m.setting.has_value();
     st.heat = thermal ? mpm::HeatMethod::explicit_ : mpm::HeatMethod::off;
   }
@@ -509,12 +515,9 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::s
 
     setup.gravity = vec3(doc["gravity"]);
     setup.domain = {dmin, dmax};
-    setup.environment.air_temperature = sc.air_temperature;
-    setup.environment.heat_transfer_coefficient = sc.heat_transfer_coefficient;
-    setup.environment.bake_time_scale = sc.bake_time_scale;
-    setup.environment.browning = build_browning(doc["environment"]["browning"]);
-    setup.domain_friction = doc["domain"]["friction"].get<double>();
-    setup.domain_damping = doc["domain"]["damping"].get<double>();
+    setup.oven = build_oven(c, doc["environment"]);
+    setup.domain_contact.friction = doc["domain"]["friction"].get<double>();
+    setup.domain_contact.damping = doc["domain"]["damping"].get<double>();
 
     if (sj["speed_of_sound"].is_string()) {
       // auto: ten times the fastest flow expected, so density varies ~1%.
@@ -534,8 +537,8 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::s
       Collider col;
       col.name = cj["name"].get<std::string>();
       col.geometry = build_collider_geometry(c, path + ".shape", cj["shape"], h);
-      col.friction = cj["friction"].get<double>();
-      col.damping = cj["damping"].get<double>();
+      col.contact = {ContactMode::separate, FrictionModel::velocity_share, cj["friction"].get<double>(),
+                     cj["damping"].get<double>()};
       if (cj.contains("motion") && doc["solver"]["type"].get<std::string>() == "sph")
         c.fail(path + ".motion", "moving colliders are available for the MPM solver only");
       if (!cj["temperature"].is_null())
@@ -631,7 +634,7 @@ std::string describe(const Scene& scene, Solver& solver) {
   }
   out += fmt::format("colliders  {}\n", scene.sph.colliders.size());
   for (const auto& c : scene.sph.colliders)
-    out += fmt::format("  '{}' friction {} damping {}\n", c.name, c.friction, c.damping);
+    out += fmt::format("  '{}' friction {} damping {}\n", c.name, c.contact.friction, c.contact.damping);
   out += fmt::format("probes     {}\n", scene.probes.size());
   const Real dt = solver.max_stable_dt();
   out += "time step  bounds at t = 0:\n";

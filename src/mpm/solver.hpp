@@ -14,78 +14,11 @@
 #include "core/timers.hpp"
 #include "geometry/colliders.hpp"
 #include "geometry/motion.hpp"
-#include "geometry/shapes.hpp"
-#include "mpm/constitutive.hpp"
-#include "physics/browning.hpp"
-#include "physics/mixture.hpp"
+#include "mpm/grid.hpp"
+#include "mpm/setup.hpp"
+#include "physics/oven.hpp"
 
 namespace bakesim::mpm {
-
-struct Material {
-  std::string name;
-  Real density = 1000.0;  // kg/m³
-  Lame lame{};
-  ElasticLaw elastic = Hencky{};
-  PlasticLaw plastic = NoPlasticity{};
-  // Thermomechanics (spec 2–3).
-  Real specific_heat = 2800;   // c_v, J/(kg K)
-  Real conductivity = 0.4;     // κ, W/(m K)
-  Real thermal_expansion = 0;  // c of σ_s = τ/J − c λ (θ − θ_ref) I, 1/K
-  Real initial_porosity = 0;   // n₀ of the gas porosity
-  Moisture water;
-  Leavening gas;
-  std::optional<SettingCurves> setting;  // temperature-dependent τ_y, η (Hencky + plasticity only)
-};
-
-struct Body {
-  std::string name;
-  int material = 0;
-  Shape shape;
-  Real temperature = 20.0;  // °C (carried; heat arrives with the thermomechanical MPM)
-  Vec3 velocity = Vec3::Zero();
-  Vec3 angular_velocity = Vec3::Zero();  // rad/s about the body's centre of mass
-};
-
-enum class Contact { sticky, slip, separate };
-
-// A collider acts on the grid nodes inside it (signed distance ≤ 0) through
-// their velocity relative to its own (scripted rigid motion).
-struct GridCollider {
-  Collider collider;  // geometry in its rest pose; mesh colliders need their signed distance grid
-  Contact contact = Contact::separate;
-  Real friction = 0.0;  // Coulomb μ
-  RigidMotion motion;
-};
-
-enum class HeatMethod { off, explicit_, implicit };
-
-struct Settings {
-  HeatMethod heat = HeatMethod::off;
-  // Stomakhin et al. 2014 baseline: heat and temperature-dependent plasticity
-  // only (no gas, no water, no porosity in the yield surface).
-  bool baseline = false;
-  Real bake_time_scale = 1;    // bake seconds per simulated second (heat, water, gas)
-  Real heat_tolerance = 1e-8;  // implicit heat: relative residual of the conjugate gradients
-  int heat_max_iterations = 200;
-  Real cell_size = 0.01;       // Δx, m
-  int particles_per_cell = 8;  // initial sampling: a lattice of ppc^(1/3) per axis
-  Real cfl = 0.4;
-  Real max_dt = 1e-3;
-  int reorder_every = 16;  // steps between reordering particle memory by grid block
-};
-
-struct Setup {
-  Settings settings;
-  std::vector<Material> materials;
-  std::vector<Body> bodies;
-  std::vector<GridCollider> colliders;
-  Aabb domain;
-  Real domain_friction = 0.0;  // Coulomb μ of the domain walls (separating contact)
-  Vec3 gravity = Vec3(0, -9.81, 0);
-  PiecewiseLinear air_temperature = PiecewiseLinear::constant(20);  // °C over bake time
-  Real heat_transfer_coefficient = 10;                              // β of the air, W/(m² K)
-  BrowningKinetics browning;                                        // crust colour from the temperature history
-};
 
 // Running totals of the mixture (bake time, SI units).
 struct MixtureBudget {
@@ -125,7 +58,7 @@ class MpmSolver final : public Solver {
   Real grid_mass() const;
   Real cell_size() const { return dx_; }
   bool thermal() const { return setup_.settings.heat != HeatMethod::off; }
-  Real bake_time() const { return time_ * setup_.settings.bake_time_scale; }
+  Real bake_time() const { return setup_.oven.bake_time(time_); }
   const MixtureBudget& budget() const { return budget_; }
   Real total_water() const;
   Real total_co2() const;          // mol
@@ -135,6 +68,7 @@ class MpmSolver final : public Solver {
  private:
   void build_particles();
   void phase_sort();
+  void group_by_material();
   void phase_p2g(Real dt);
   void phase_grid(Real dt);
   void phase_g2p(Real dt);
@@ -192,29 +126,12 @@ class MpmSolver final : public Solver {
   // Dense node grid over the domain (nodes at domain.min + k Δx).
   Real dx_ = 0, inv_dx_ = 0;
   int nx_ = 0, ny_ = 0, nz_ = 0;
-  // One node: mass and momentum after P2G; velocity replaces the momentum in
-  // the grid update. Four doubles, so one node is half a cache line.
-  struct Node {
-    Real mass;
-    Real mv[3];
-  };
-  std::vector<Node> grid_;
-  // Thermal/water node: after P2G {M = Σ w m c, E = Σ w m c θ, Q (heat rate),
-  // W = Σ w m_w, V = Σ w V_p, ΔW (water rate)}; the grid phase turns the slots
-  // into {Δθ, θ_new, k = a β / V, k θ_amb, V, water ratio r, s, a_air / V}.
-  struct HeatNode {
-    Real f[8];
-  };
-  std::vector<HeatNode> heat_grid_;
-  // Blocks of kBlock³ cells, coloured 2×2×2 so same-coloured blocks never
-  // share a node: P2G runs each colour's blocks in parallel without races.
-  static constexpr int kBlock = 4;
-  int bx_ = 0, by_ = 0, bz_ = 0;
-  std::vector<std::uint32_t> order_;        // particle indices sorted by block
-  std::vector<std::uint32_t> block_start_;  // per block, into order_ (size blocks + 1)
-  std::vector<std::uint32_t> block_key_;
-  std::vector<std::vector<std::uint32_t>> colour_blocks_;  // non-empty blocks per colour
-  std::vector<std::uint32_t> block_fill_;                  // counting-sort cursors, reused
+  std::vector<GridNode> grid_;
+  // With heat: what P2G sums on each node, and what the grid update leaves for
+  // G2P and the implicit solve (grid.hpp).
+  std::vector<HeatSums> heat_sums_;
+  std::vector<HeatState> heat_state_;
+  BlockOrder blocks_;  // particles by grid block, blocks coloured for race-free P2G
   // Particle indices of each material, rebuilt when particle memory is
   // reordered: the constitutive phase dispatches once per material group.
   std::vector<std::vector<std::uint32_t>> material_members_;
@@ -229,7 +146,7 @@ class MpmSolver final : public Solver {
   struct ImplicitHeat {
     std::vector<Real> rhs, diag, x, r, z, d, q;
   } implicit_heat_;
-  std::vector<Real> collider_temperatures_;  // per collider at the current bake time
+  ColliderTemperatures collider_temperatures_;  // per collider at the current bake time
   std::vector<Real> initial_body_water_;
   Real time_ = 0;
   std::size_t steps_ = 0;

@@ -9,8 +9,7 @@
 #include <cmath>
 
 #include "core/types.hpp"
-#include "physics/heat.hpp"
-#include "physics/mixture.hpp"
+#include "physics/constants.hpp"
 
 namespace bakesim {
 

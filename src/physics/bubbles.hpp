@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "core/types.hpp"
-#include "physics/heat.hpp"
+#include "physics/constants.hpp"
 
 namespace bakesim {
 

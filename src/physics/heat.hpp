@@ -3,10 +3,9 @@
 #include <cmath>
 
 #include "core/types.hpp"
+#include "physics/constants.hpp"
 
 namespace bakesim {
-
-inline constexpr Real kZeroCelsius = 273.15;  // K
 
 // Convective exchange of a lumped particle with an outside temperature
 // (thesis Eq 3.42 with the sign and the heat capacity restored):
@@ -21,5 +20,30 @@ inline Real exchange_temperature(Real temperature, Real outside, Real coefficien
 
 // Energy that entered the particle over that step (J), for bookkeeping.
 inline Real exchanged_energy(Real before, Real after, Real heat_capacity) { return heat_capacity * (after - before); }
+
+// Surface heat exchange, the one law both solvers use for the oven air and
+// for hot colliders (Newton's law of cooling; thesis Eq 3.42–3.43, spec 4.3's
+// boundary term): a surface element exchanges q = Σ_c β_c A_c (θ_c − θ) with
+// everything it faces (the air with `environment.heat_transfer_coefficient`,
+// a heated collider with its own coefficient). SPH gives each surface particle
+// one outside (the collider it touches, else the air) and integrates exactly
+// (`relax`); MPM sums the parts of each grid node's boundary area facing the
+// air and the colliders and carries the rate to the particles.
+struct SurfaceExchange {
+  Real conductance = 0;  // Σ β A, W/K
+  Real drive = 0;        // Σ β A θ_out, W
+
+  // Adds a part of the surface: area A (m²) facing an outside at θ_out (°C) through β (W/(m² K)).
+  void add(Real area, Real beta, Real outside) {
+    conductance += area * beta;
+    drive += area * beta * outside;
+  }
+  // Heat flowing in at temperature θ, W (explicit rate).
+  Real heat_rate(Real temperature) const { return drive - conductance * temperature; }
+  // One outside temperature, integrated exactly over dt (never overshoots).
+  static Real relax(Real temperature, Real outside, Real beta, Real area, Real heat_capacity, Real dt) {
+    return exchange_temperature(temperature, outside, beta * area, heat_capacity, dt);
+  }
+};
 
 }  // namespace bakesim

@@ -30,122 +30,12 @@
 #include "core/particles.hpp"
 #include "core/solver.hpp"
 #include "geometry/colliders.hpp"
-#include "geometry/shapes.hpp"
-#include "physics/browning.hpp"
-#include "physics/curves.hpp"
+#include "physics/oven.hpp"
 #include "sph/kernels.hpp"
 #include "sph/neighbours.hpp"
-#include "sph/surface_detection.hpp"
+#include "sph/setup.hpp"
 
 namespace bakesim::sph {
-
-struct Material {
-  std::string name;
-  Real rest_density = 1000.0;                        // kg/m³
-  TemperatureCurve viscosity = ConstantCurve{1e-3};  // dynamic viscosity μ(T), Pa·s (Eq 4.1)
-  Real surface_tension = 0.0;                        // σ, N/m (colour-field model)
-  TemperatureCurve xsph = ConstantCurve{0.0};        // velocity tuner ε(T), clamped to [0, 1] (Eq 4.4)
-  Real specific_heat = 4181.0;                       // J/(kg·K)
-  Real conductivity = 0.6;                           // W/(m·K)
-  // Maxwell viscoelasticity (Eq 3.20): elasticity μ_e(T) in Pa (0: no
-  // viscoelastic stress) and relaxation time λ(T) in s (Eq 4.2, 4.3).
-  TemperatureCurve elasticity = ConstantCurve{0.0};
-  TemperatureCurve relaxation_time = ConstantCurve{1.0};
-  // The curves read the highest temperature reached instead of the current
-  // one: baked dough stays set when it cools (irreversible setting).
-  bool properties_follow_peak = false;
-};
-
-enum class BubbleDistribution { uniform, centred, layered, region };
-
-// Which particles of a body are bubbles (thesis 3.3.3), and how they rise.
-struct BubbleSpec {
-  Real fraction = 0.0;  // share of the body's particles (of the chosen zone)
-  BubbleDistribution distribution = BubbleDistribution::uniform;
-  std::uint64_t seed = 1;
-  int layers = 4;                      // layered: slabs along the vertical, odd ones hold bubbles
-  std::optional<Shape> region;         // region: bubbles only inside this shape
-  std::optional<Real> pressure_scale;  // B of Eq 3.48 for bubbles, Pa (default: the material's Tait B)
-  Real max_expansion = 3.0;            // a bubble stops rising when ρ0/ρ reaches this
-  Real end_temperature = 100.0;        // °C: the rise ends (Eq 3.52 takes over) for every particle of the body
-  bool contract_on_cooling = false;    // risen bubbles shrink by the gas law as they cool
-};
-
-struct Body {
-  std::string name;
-  std::string source;  // where it was defined, for messages ("bodies[1]")
-  int material = 0;
-  Shape shape;
-  Real temperature = 20.0;  // °C
-  Vec3 velocity = Vec3::Zero();
-  bool hold_temperature = false;  // a thermostat: conducts, but keeps its temperature
-  BubbleSpec bubbles;
-};
-
-enum class ViscositySolver { explicit_euler, implicit, automatic };
-ViscositySolver parse_viscosity_solver(const std::string& name);
-std::string to_string(ViscositySolver v);
-
-// Oven air and the bake clock (docs/physics.md, "bake clock"): heat and gas
-// rates run `bake_time_scale` times faster than the mechanics, so a real
-// bake of scale × T seconds is simulated in T seconds of mechanics. The air
-// temperature schedule is given in bake time.
-struct Environment {
-  PiecewiseLinear air_temperature = PiecewiseLinear::constant(20.0);  // °C over bake time (s)
-  Real heat_transfer_coefficient = 10.0;                              // W/(m² K), air to surface particles
-  Real bake_time_scale = 1.0;
-  BrowningKinetics browning;  // crust colour from the temperature history
-};
-
-// Per-particle smoothing length, Eq 3.54–3.56 (docs/physics.md).
-struct AdaptiveSmoothing {
-  bool enabled = false;
-  bool geometric_mean = true;             // ρ_ref: geometric mean of ρ/ρ0 (Eq 3.55), else ρ0
-  Real sensitivity = 0.5;                 // ε_g
-  Real scale = 1.0;                       // k_g
-  Real min_ratio = 0.8, max_ratio = 1.5;  // h_i / h0 limits
-};
-
-struct Settings {
-  Real spacing = 0.01;         // initial particle spacing s, m
-  Real smoothing_ratio = 2.0;  // support h = ratio · s
-  Real speed_of_sound = 20.0;  // c, m/s; Tait B = ρ0 c² / γ
-  Real gamma = 7.0;
-  NeighbourMethod search = NeighbourMethod::grid;
-  bool clamp_negative_pressure = true;
-  bool wall_density_correction = true;
-  Real av_alpha = 0.0, av_beta = 1.0, av_epsilon = 0.01;  // Eq 3.36–3.37
-  // Monaghan's artificial stress: fraction ε of the tensile principal stress
-  // (0: off) and the exponent n of (W(r)/W(s))^n.
-  Real artificial_stress = 0.0, artificial_stress_exponent = 4.0;
-  Real surface_threshold = 0.1;  // |∇C| · h above which surface tension acts (Eq 3.30)
-  SurfaceMethod surface_method = SurfaceMethod::colour;
-  Real surface_colour_threshold = 0.6;  // |∇C| · h at or above which a particle is on the surface
-  Real surface_hull_threshold = 0.5;    // hull boundary closer than this × spacing: on the surface
-  int surface_every = 1;                // steps between surface detections
-  ViscositySolver viscosity_solver = ViscositySolver::automatic;
-  AdaptiveSmoothing adaptive;
-  Real implicit_tolerance = 1e-6;  // relative residual of the implicit viscosity solve
-  int implicit_max_iterations = 500;
-  Real cfl = 0.4;
-  bool heat_conduction = true;
-  Real conduction_factor = 0.1;
-  Real viscous_factor = 0.125;
-  Real force_factor = 0.25;
-  Real max_dt = 1e-3;
-};
-
-struct Setup {
-  Settings settings;
-  std::vector<Material> materials;
-  std::vector<Body> bodies;
-  std::vector<Collider> colliders;
-  Aabb domain;
-  Environment environment;
-  Real domain_friction = 0.0;
-  Real domain_damping = 1.0;
-  Vec3 gravity = Vec3(0, -9.81, 0);
-};
 
 class SphSolver final : public Solver {
  public:
@@ -171,7 +61,7 @@ class SphSolver final : public Solver {
   Real particle_mass(int material) const;
   const NeighbourLists& neighbours() const { return lists_; }
   long steps() const { return steps_; }
-  Real bake_time() const { return time_ * setup_.environment.bake_time_scale; }
+  Real bake_time() const { return setup_.oven.bake_time(time_); }
   bool implicit_viscosity() const { return implicit_viscosity_; }
   int last_viscosity_iterations() const { return viscosity_iterations_; }
   // Heat that entered through the surface (air and colliders) since the start, J.
@@ -212,6 +102,23 @@ class SphSolver final : public Solver {
   // and its gradient (walls combined as independent events, exact for a
   // Gaussian kernel and close for the spline at box edges and corners).
   Real wall_share(const Vec3& x, Vec3* gradient) const;
+  // Poses of the moving analytic colliders at `time` (the end of the step).
+  void update_wall_poses(Real time);
+  // Calls fn(contact, wall velocity) for each face of analytic collider c
+  // within `range` of x, in world coordinates: a moving collider is queried
+  // in its rest pose. Static colliders skip the transform (and report zero velocity).
+  template <class Fn>
+  void for_each_wall_of(std::size_t c, const Vec3& x, Real range, Fn&& fn) const {
+    const Collider& collider = walls_[c];
+    if (!collider.motion.moves()) {
+      for_each_wall(collider.geometry, x, range, [&](const WallContact& w) { fn(w, Vec3::Zero().eval()); });
+      return;
+    }
+    const RigidPose& pose = wall_poses_[c];
+    for_each_wall(collider.geometry, pose.to_rest(x), range, [&](const WallContact& w) {
+      fn(WallContact{w.distance, pose.rotation * w.normal}, pose.velocity_at(x));
+    });
+  }
 
   Setup setup_;
   Real h_;
@@ -222,18 +129,20 @@ class SphSolver final : public Solver {
   WallKernelShare wall_share_;
   NeighbourSearch search_;
   NeighbourLists lists_;
-  std::vector<Collider> walls_;     // analytic colliders incl. the domain box
-  std::vector<Collider> meshes_;    // mesh colliders
-  std::vector<Real> tait_b_;        // per material
-  std::vector<Real> mass_;          // per material
-  std::vector<Real> conductivity_;  // per material, read per neighbour pair in the heat phase
-  std::vector<Real> bubble_b_;      // per body: B of Eq 3.48
+  std::vector<Collider> walls_;        // analytic colliders incl. the domain box
+  std::vector<Collider> meshes_;       // mesh colliders
+  std::vector<RigidPose> wall_poses_;  // per analytic collider, at the end of the step (moving ones)
+  std::vector<Real> tait_b_;           // per material
+  std::vector<Real> mass_;             // per material
+  std::vector<Real> conductivity_;     // per material, read per neighbour pair in the heat phase
+  std::vector<Real> bubble_b_;         // per body: B of Eq 3.48
   bool implicit_viscosity_ = false;
   bool elastic_ = false;             // some material has a Maxwell stress (μ_e not identically 0)
   bool heated_colliders_ = false;    // some collider carries a temperature
   bool follows_peak_ = false;        // some material reads its curves at the peak temperature
   bool adaptive_ = false;            // per-particle smoothing length (Eq 3.54–3.56)
   std::vector<Real> exchange_area_;  // per material: π r² of a surface particle (Eq 3.43)
+  ColliderTemperatures wall_temperatures_, mesh_temperatures_;  // at this step's bake time (heat phase)
   int viscosity_iterations_ = 0;
   Real exchanged_heat_ = 0.0;
 

@@ -8,7 +8,10 @@
 #include "physics/bubbles.hpp"
 #include "physics/heat.hpp"
 #include "physics/maxwell.hpp"
-#include "physics/mixture.hpp"
+#include "physics/leavening.hpp"
+#include "physics/moisture.hpp"
+#include "physics/porosity.hpp"
+#include "physics/setting.hpp"
 
 using namespace bakesim;
 

@@ -1,0 +1,47 @@
+// Phase browning (Zanoni et al. 1995 on the bake clock) and the health check
+// after each step.
+#include "mpm/solver.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "core/errors.hpp"
+#include "core/health.hpp"
+#include "core/parallel.hpp"
+
+namespace bakesim::mpm {
+
+// Crust colour (Zanoni et al. 1995, physics/browning.hpp) from each point's
+// temperature after this step's heat transfer, on the bake clock.
+void MpmSolver::phase_browning(Real dt) {
+  ScopedPhase t(timers_, t_browning_);
+  const BrowningKinetics& kinetics = setup_.oven.browning;
+  const Real dt_bake = setup_.oven.bake_step(dt);
+  parallel_for(x_.size(),
+               [&](std::size_t i) { browning_[i] = kinetics.advance(browning_[i], temperature_[i], dt_bake); });
+}
+
+void MpmSolver::check_state() {
+  ScopedPhase t(timers_, t_check_);
+  const std::size_t n = x_.size();
+  const std::size_t bad = first_invalid(n, [&](std::size_t i) {
+    return x_[i].allFinite() && v_[i].allFinite() && j_[i] > 0 && setup_.domain.contains(x_[i]) &&
+           std::isfinite(temperature_[i]) && water_[i] >= 0;
+  });
+  if (bad == n) return;
+  const char* what = !x_[bad].allFinite()                ? "position"
+                     : !v_[bad].allFinite()              ? "velocity"
+                     : !(j_[bad] > 0)                    ? "J (volume ratio)"
+                     : !setup_.domain.contains(x_[bad])  ? "position (left the domain)"
+                     : !std::isfinite(temperature_[bad]) ? "temperature"
+                                                         : "water mass";
+  throw SimulationError(
+      fmt::format("mpm step {} (t = {:.6g} s): particle {} has an invalid {}: x = ({:.4g}, {:.4g}, {:.4g}), v = "
+                  "({:.4g}, {:.4g}, {:.4g}), J = {:.4g}, "
+                  "temperature = {:.4g} degC, water = {:.4g} kg",
+                  steps_ + 1, time_, id_[bad], what, x_[bad].x(), x_[bad].y(), x_[bad].z(), v_[bad].x(), v_[bad].y(),
+                  v_[bad].z(), j_[bad], temperature_[bad], water_[bad]));
+}
+
+}  // namespace bakesim::mpm

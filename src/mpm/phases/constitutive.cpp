@@ -1,0 +1,116 @@
+// Phase constitutive: per material group, setting, CO2, the return mapping of
+// the plastic law, the Kirchhoff stress with the mixture pressures, and the
+// heat and water terms of the next P2G (spec 2, 3.1–3.4, 4.2, 4.3).
+#include "mpm/solver.hpp"
+
+#include "core/parallel.hpp"
+#include "physics/constants.hpp"
+#include "physics/porosity.hpp"
+
+namespace bakesim::mpm {
+
+// Spec 3.1–3.4: per material group, the gelatinization flag and the
+// temperature-dependent τ_y(θ), η(θ); CO2 generation (3.3); the return mapping
+// of the plastic law on the trial F^E; the Kirchhoff stress
+// τ = τ_E − J (c λ (θ − θ_ref) + P_g + ξ (s − s₀)) I for the next P2G; the
+// cooling by thermal expansion −c λ θ_K ∇·v / (ρ c) (spec 2, on the particle);
+// and the heat and water terms of the next P2G (spec 4.2, 4.3).
+void MpmSolver::phase_plasticity(Real dt) {
+  ScopedPhase t(timers_, t_plastic_);
+  const Settings& st = setup_.settings;
+  const bool heat = thermal(), mixture = heat && !st.baseline;
+  const Real dtb = setup_.oven.bake_step(dt);
+  const Real flux_scale = 4.0 * inv_dx_;
+  for (std::size_t mi = 0; mi < setup_.materials.size(); ++mi) {
+    const Material& mat = setup_.materials[mi];
+    const bool gas = mixture && mat.gas.active(), wet = mixture && mat.water.active();
+    const Real expansion = mat.thermal_expansion * mat.lame.lambda;
+    std::visit(
+        [&](const auto& elastic) {
+          std::visit(
+              [&](const auto& plastic_law) {
+                using P = std::decay_t<decltype(plastic_law)>;
+                const std::vector<std::uint32_t>& members = material_members_[mi];
+                parallel_for(
+                    members.size(),
+                    [&](std::size_t k) {
+                      const std::size_t i = members[k];
+                      const Real theta = temperature_[i];
+                      Mat3 f = deformation_gradient(i);
+                      Svd3 s = svd3(f);
+                      if constexpr (!std::is_same_v<P, NoPlasticity>) {
+                        P law = plastic_law;
+                        if (heat && mat.setting) {
+                          if (!gelatinized_[i] && theta >= mat.setting->set_temperature)
+                            gelatinized_[i] = 1, jp_set_[i] = jp_[i];
+                          const Real te = mat.setting->effective_temperature(theta, gelatinized_[i] != 0);
+                          law.yield_stress = mat.setting->yield_stress(te);
+                          law.viscosity = mat.setting->viscosity(te);
+                        }
+                        if constexpr (std::is_same_v<P, CamClay>) {
+                          if (heat && st.baseline)
+                            law.cohesion_slope = 0;  // baseline: no porosity in the yield surface
+                          // τ_y is a Cauchy stress: in Kirchhoff stress the surface grows with the
+                          // plastic dilation, so gas (whose Kirchhoff pressure n R θ / n_p barely
+                          // falls as pores grow) expands a dough to a finite size.
+                          law.yield_stress *= jp_[i];
+                          // Brittle set crust (a departure, docs/physics.md): dilation after setting weakens it.
+                          if (wet && mat.setting && gelatinized_[i]) {
+                            const Real water_lost =
+                                1 - water_[i] / (mat.water.saturation * mat.water.water_density * volume0_[i]);
+                            law.yield_stress *= mat.setting->softening_factor(jp_[i], jp_set_[i], water_lost);
+                          }
+                        }
+                        const Vec3 trial = s.sigma;
+                        s = return_map(law, mat.lame, dt, jp_[i], s);
+                        if (s.sigma != trial) {
+                          f = compose(s);
+                          set_deformation_gradient(i, f);
+                        }
+                        jp_[i] = j_[i] / s.sigma.prod();
+                      }
+                      Mat3 tau = kirchhoff_stress(elastic, f, s);
+                      if (heat) {
+                        const Real j = j_[i], volume = j * volume0_[i];
+                        Real kirchhoff_pressure = 0;
+                        if (expansion != 0) {
+                          const Real theta_ref = setup_.bodies[body_[i]].temperature;
+                          kirchhoff_pressure += j * expansion * (theta - theta_ref);
+                          // Spec 2: ρ c Dθ/Dt = −c λ θ_K ∇·v (mechanical time; ∇·v = tr C).
+                          const Real div_v = c0_[i].x() + c1_[i].y() + c2_[i].z();
+                          temperature_[i] -=
+                              dt * expansion * (theta + kZeroCelsius) * div_v * volume / heat_capacity_[i];
+                        }
+                        if (gas) {
+                          co2_[i] = mat.gas.generated(co2_[i], dtb, theta, mat.density);
+                          const Real jp_gas =
+                              Leavening::kirchhoff_pressure(co2_[i], theta, gas_porosity(jp_[i], mat.initial_porosity));
+                          gas_pressure_[i] = jp_gas / j;
+                          kirchhoff_pressure += jp_gas;
+                        }
+                        Real sat = 0;
+                        if (wet) {
+                          sat = water_[i] / (mat.water.water_density * volume);
+                          saturation_[i] = sat;
+                          kirchhoff_pressure += j * mat.water.pressure(sat);
+                          water_src_[i] = -mat.water.evaporation_flux(theta, sat) * air_area_[i];
+                          water_vec_[i] = -(volume * mat.water.diffusion_coefficient(theta) * mat.water.water_density *
+                                            flux_scale) *
+                                          grad_s_[i];
+                        }
+                        tau.diagonal().array() -= kirchhoff_pressure;
+                        heat_src_[i] = exchange_t_[i] - exchange_[i] * temperature_[i];
+                        heat_vec_[i] = -(volume * mat.conductivity * flux_scale) * grad_theta_[i];
+                      }
+                      tau_diag_[i] = tau.diagonal();
+                      tau_off_[i] = Vec3(tau(0, 1), tau(0, 2), tau(1, 2));
+                    },
+                    1024);
+              },
+              mat.plastic);
+        },
+        mat.elastic);
+  }
+}
+
+}  // namespace bakesim::mpm

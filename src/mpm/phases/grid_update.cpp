@@ -1,0 +1,124 @@
+// Phase grid: node velocities with gravity and the contact law at colliders and
+// domain walls (spec 4.4), and with heat the explicit temperature increment, the
+// boundary exchange with the air and hot colliders, and the water ratio (spec
+// 4.2, 4.3, 4.6).
+#include "mpm/solver.hpp"
+
+#include <algorithm>
+
+#include "core/parallel.hpp"
+#include "physics/constants.hpp"
+#include "physics/heat.hpp"
+
+namespace bakesim::mpm {
+
+// Spec 4.4: v_i = (m v)_i / m_i + Δt g, then the collider conditions.
+// With heat (spec 4.2, 4.3, 4.6): θ_i = E_i / M_i advanced by the explicit
+// rate, Δθ_i kept for the FLIP transfer; the boundary area of the node
+// a_i = Δx³ |∇φ|, φ = V_i / Δx³ by central differences (Σ a_i is the surface
+// area for any smooth profile of φ), exchanging (physics/heat.hpp,
+// SurfaceExchange) with a hot collider within 3 Δx of the node through the
+// part of the area vector Δx³ ∇φ that faces it, and with the air through the
+// rest; water: the ratio r_i = Δt ΔW_i / W_i, never below −1 (water is never
+// negative; what was asked beyond that is counted as clamped), and the
+// saturation s_i for the next flux.
+void MpmSolver::phase_grid(Real dt) {
+  ScopedPhase t(timers_, t_grid_);
+  const Vec3 origin = setup_.domain.min;
+  const Vec3 g = setup_.gravity;
+  // The domain walls sit two cells inside the grid so no stencil leaves it.
+  const ColliderGeometry walls =
+      InsideBoxCollider{{setup_.domain.min + Vec3::Constant(2 * dx_), setup_.domain.max - Vec3::Constant(2 * dx_)}};
+  const std::size_t nz = nz_, syz = std::size_t(ny_) * nz_;
+  // Collider poses at the end of the step, where the nodes' new velocities take the material.
+  collider_poses_.resize(setup_.colliders.size());
+  for (std::size_t ci = 0; ci < setup_.colliders.size(); ++ci)
+    collider_poses_[ci] = setup_.colliders[ci].motion.at(time_ + dt);
+  const bool heat = thermal();
+  const Oven& oven = setup_.oven;
+  const Real dtb = oven.bake_step(dt), bake_t = oven.bake_time(time_ + dt);
+  const Real air_t = oven.air_temperature(bake_t), air_beta = oven.heat_transfer_coefficient;
+  collider_temperatures_.read(
+      setup_.colliders.size(), [&](std::size_t ci) -> const auto& { return setup_.colliders[ci].temperature; }, bake_t);
+  const Real inv_rho_w = 1.0 / kWaterDensity;
+  const Real clamped = deterministic_reduce(
+      grid_.size(), Real(0),
+      [&](std::size_t kb, std::size_t ke) {
+        Real clamp_sum = 0;
+        for (std::size_t k = kb; k < ke; ++k) {
+          GridNode& node = grid_[k];
+          if (node.mass <= 0) continue;
+          Vec3 v = Vec3(node.mv[0], node.mv[1], node.mv[2]) / node.mass + dt * g;
+          const Vec3 xi = origin + dx_ * Vec3(Real(k / syz), Real((k / nz) % ny_), Real(k % nz));
+          // Area vector Δx³ ∇φ (into the material) by central differences of V over 2Δx.
+          // The part facing each hot collider within 3 Δx exchanges with it, the rest with the air
+          // (∇φ reaches 2 Δx into the material; particles rest up to a cell off a wall).
+          // Colliders without a temperature insulate the area facing them.
+          // (Nodes on the grid's outer layer have no neighbours to difference: no area there.)
+          const std::size_t ki = k / syz, kj = (k / nz) % ny_, kk = k % nz;
+          const bool inner = ki > 0 && kj > 0 && kk > 0 && ki + 1 < std::size_t(nx_) && kj + 1 < std::size_t(ny_) &&
+                             kk + 1 < std::size_t(nz_);
+          const HeatSums* sums = heat ? &heat_sums_[k] : nullptr;
+          const bool exchange = heat && inner && sums->heat_capacity > 0 && sums->volume > 0;
+          Vec3 area = Vec3::Zero();
+          if (exchange)
+            area = (0.5 * inv_dx_) * Vec3(heat_sums_[k + syz].volume - heat_sums_[k - syz].volume,
+                                          heat_sums_[k + nz].volume - heat_sums_[k - nz].volume,
+                                          heat_sums_[k + 1].volume - heat_sums_[k - 1].volume);
+          SurfaceExchange hot;  // the parts facing hot colliders
+          bool near = false;
+          for (std::size_t ci = 0; ci < setup_.colliders.size(); ++ci) {
+            const Collider& c = setup_.colliders[ci];
+            const RigidPose& pose = collider_poses_[ci];
+            const WallContact w = signed_distance(c.geometry, pose.to_rest(xi));
+            near = near || w.distance < 2 * dx_;
+            if (exchange && w.distance < 3 * dx_) {
+              const Vec3 n = pose.rotation * w.normal;
+              const Real facing = std::max(Real(0), area.dot(n));
+              area -= facing * n;
+              if (c.temperature) hot.add(facing, c.heat_transfer_coefficient, collider_temperatures_[ci]);
+            }
+            if (w.distance > 0) continue;
+            const Vec3 vc = pose.velocity_at(xi);
+            Vec3 rel = v - vc;
+            apply_contact(rel, pose.rotation * w.normal, c.contact);
+            v = rel + vc;
+          }
+          if (!near_collider_.empty()) near_collider_[k] = near;
+          for_each_wall(walls, xi, 0.0,
+                        [&](const WallContact& w) { apply_contact(v, w.normal, setup_.domain_contact); });
+          node.mv[0] = v.x(), node.mv[1] = v.y(), node.mv[2] = v.z();
+          if (!exchange) continue;  // the state stays as P2G cleared it: no exchange, θ = 0
+          const HeatSums& f = *sums;
+          const Real volume = f.volume;
+          const Real air_area = area.norm();
+          const Real inv_v = 1.0 / volume;
+          if (!implicit_mass_.empty()) implicit_mass_[k] = f.heat_capacity;
+          const Real theta = f.energy / f.heat_capacity, dtheta = dtb * f.heat_rate / f.heat_capacity;
+          Real ratio = 0, sat = 0;
+          if (f.water > 0) {
+            ratio = dtb * f.water_rate / f.water;
+            if (ratio < -1) clamp_sum += (-1 - ratio) * f.water, ratio = -1;
+            sat = (1 + ratio) * f.water * inv_rho_w / volume;
+          }
+          SurfaceExchange exchanged = hot;
+          exchanged.add(air_area, air_beta, air_t);
+          HeatState& s = heat_state_[k];
+          s.dtheta = dtheta;
+          s.theta = theta + dtheta;
+          s.exchange = exchanged.conductance * inv_v;
+          s.exchange_theta = exchanged.drive * inv_v;
+          s.water_ratio = ratio;
+          s.saturation = sat;
+          s.air_area = air_area * inv_v;
+        }
+        return clamp_sum;
+      },
+      [](Real a, Real b) { return a + b; });
+  if (heat) {
+    budget_.clamped += clamped;
+    budget_.evaporated -= clamped;
+  }
+}
+
+}  // namespace bakesim::mpm

@@ -1,0 +1,112 @@
+// Phase P2G: particle to grid transfer of mass, APIC momentum and the MLS
+// stress force, and with heat the heat and water sums (spec 4.1–4.4).
+#include "mpm/solver.hpp"
+
+#include "core/parallel.hpp"
+
+namespace bakesim::mpm {
+
+// Spec 4.1 and 4.4: m_i = Σ w m_p, (m v)_i = Σ w m_p (v_p + C_p (x_i − x_p))
+// (APIC), and the stress force. The force uses the MLS-MPM gradient
+// ∇w_ip ≈ w_ip D⁻¹ (x_i − x_p), D⁻¹ = 4/Δx² for quadratic B-splines, so it
+// folds into the affine term: (m v)_i += w (m_p v_p + A_p (x_i − x_p)) with
+// A_p = m_p C_p − Δt V⁰_p D⁻¹ τ_p (Hu et al. 2018, Eq. 16–17).
+// With heat (spec 4.1–4.3): M_i = Σ w m c, E_i = Σ w m c θ, V_i = Σ w V_p,
+// W_i = Σ w m_w and the rates Q_i = Σ w S β (θ_amb − θ) − Σ V κ ∇θ_p · ∇w_ip,
+// ΔW_i = −Σ w E(θ) s S_air + Σ V q_w · ∇w_ip, with the same MLS gradient
+// (∇w_ip = w (4/Δx) o, o the node offset in cells).
+template <bool kThermal>
+void MpmSolver::p2g(Real dt) {
+  parallel_for(
+      grid_.size(),
+      [&](std::size_t k) {
+        grid_[k] = GridNode{0, {0, 0, 0}};
+        if constexpr (kThermal) {
+          heat_sums_[k] = HeatSums{};
+          heat_state_[k] = HeatState{};
+          if (!implicit_mass_.empty()) implicit_mass_[k] = 0;
+        }
+      },
+      1 << 14);
+  const Vec3 origin = setup_.domain.min;
+  const std::size_t nz = nz_, syz = std::size_t(ny_) * nz_;
+  const Real d_inv = 4.0 * inv_dx_ * inv_dx_;
+  blocks_.for_each_by_colour(x_, origin, inv_dx_, [&](std::uint32_t p, const Axis& ax, const Axis& ay, const Axis& az) {
+    const Real mp = m_[p];
+    // A Δx, so that A (x_i − x_p) = (A Δx) · offset-in-cells.
+    const Real s = -dt * volume0_[p] * d_inv;
+    const Vec3 td = tau_diag_[p], to = tau_off_[p];
+    Real a[3][3];  // a[col][row]
+    const Vec3 cc[3] = {c0_[p], c1_[p], c2_[p]};
+    for (int col = 0; col < 3; ++col)
+      for (int row = 0; row < 3; ++row) a[col][row] = mp * cc[col][row];
+    a[0][0] += s * td.x(), a[1][1] += s * td.y(), a[2][2] += s * td.z();
+    a[1][0] += s * to.x(), a[0][1] += s * to.x();
+    a[2][0] += s * to.y(), a[0][2] += s * to.y();
+    a[2][1] += s * to.z(), a[1][2] += s * to.z();
+    for (int col = 0; col < 3; ++col)
+      for (int row = 0; row < 3; ++row) a[col][row] *= dx_;
+    const Real mv[3] = {mp * v_[p].x(), mp * v_[p].y(), mp * v_[p].z()};
+    // Thermal channels: scalar parts (h) and offset slopes (hv, per axis).
+    Real h[6] = {0, 0, 0, 0, 0, 0}, hv[3][2] = {{0, 0}, {0, 0}, {0, 0}};
+    if constexpr (kThermal) {
+      h[0] = heat_capacity_[p];
+      h[1] = heat_capacity_[p] * temperature_[p];
+      h[2] = heat_src_[p];
+      h[3] = water_[p];
+      h[4] = j_[p] * volume0_[p];
+      h[5] = water_src_[p];
+      for (int d = 0; d < 3; ++d) hv[d][0] = heat_vec_[p][d], hv[d][1] = water_vec_[p][d];
+    }
+    for (int i = 0; i < 3; ++i) {
+      const Real ox = i - ax.frac;
+      Real ti[3];
+      for (int r = 0; r < 3; ++r) ti[r] = mv[r] + a[0][r] * ox;
+      const Real qi = h[2] + hv[0][0] * ox, wi = h[5] + hv[0][1] * ox;
+      for (int j = 0; j < 3; ++j) {
+        const Real oy = j - ay.frac, wij = ax.w[i] * ay.w[j];
+        Real tj[3];
+        for (int r = 0; r < 3; ++r) tj[r] = ti[r] + a[1][r] * oy;
+        const std::size_t row_index = std::size_t(ax.base + i) * syz + std::size_t(ay.base + j) * nz + az.base;
+        GridNode* row = &grid_[row_index];
+        for (int kk = 0; kk < 3; ++kk) {
+          const Real oz = kk - az.frac, w = wij * az.w[kk];
+          GridNode& node = row[kk];
+          node.mass += w * mp;
+          for (int r = 0; r < 3; ++r) node.mv[r] += w * (tj[r] + a[2][r] * oz);
+        }
+        if constexpr (kThermal) {
+          const Real qj = qi + hv[1][0] * oy, wj = wi + hv[1][1] * oy;
+          HeatSums* hrow = &heat_sums_[row_index];
+          for (int kk = 0; kk < 3; ++kk) {
+            const Real oz = kk - az.frac, w = wij * az.w[kk];
+            HeatSums& f = hrow[kk];
+            f.heat_capacity += w * h[0];
+            f.energy += w * h[1];
+            f.heat_rate += w * (qj + hv[2][0] * oz);
+            f.water += w * h[3];
+            f.volume += w * h[4];
+            f.water_rate += w * (wj + hv[2][1] * oz);
+          }
+        }
+      }
+    }
+  });
+}
+
+void MpmSolver::phase_p2g(Real dt) {
+  ScopedPhase t(timers_, t_p2g_);
+  if (thermal()) {
+    p2g<true>(dt);
+    // What the boundary terms put in this step (spec 4.2, 4.3 bookkeeping).
+    const Real dtb = setup_.oven.bake_step(dt);
+    // (implicit heat books the energy its solve puts in)
+    if (setup_.settings.heat == HeatMethod::explicit_)
+      budget_.heat_in += dtb * deterministic_sum(x_.size(), [&](std::size_t i) { return heat_src_[i]; });
+    budget_.evaporated -= dtb * deterministic_sum(x_.size(), [&](std::size_t i) { return water_src_[i]; });
+  } else {
+    p2g<false>(dt);
+  }
+}
+
+}  // namespace bakesim::mpm

@@ -1,0 +1,75 @@
+#pragma once
+// What an MPM run is made of: materials (elastic and plastic laws, the
+// mixture's heat, water and gas), bodies, colliders and the solver's
+// settings, as the scene loader builds them (io/scene_mpm.cpp).
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "geometry/colliders.hpp"
+#include "geometry/shapes.hpp"
+#include "mpm/constitutive.hpp"
+#include "physics/leavening.hpp"
+#include "physics/moisture.hpp"
+#include "physics/oven.hpp"
+#include "physics/setting.hpp"
+
+namespace bakesim::mpm {
+
+struct Material {
+  std::string name;
+  Real density = 1000.0;  // kg/m³
+  Lame lame{};
+  ElasticLaw elastic = Hencky{};
+  PlasticLaw plastic = NoPlasticity{};
+  // Thermomechanics (spec 2–3).
+  Real specific_heat = 2800;   // c_v, J/(kg K)
+  Real conductivity = 0.4;     // κ, W/(m K)
+  Real thermal_expansion = 0;  // c of σ_s = τ/J − c λ (θ − θ_ref) I, 1/K
+  Real initial_porosity = 0;   // n₀ of the gas porosity
+  Moisture water;
+  Leavening gas;
+  std::optional<SettingCurves> setting;  // temperature-dependent τ_y, η (Hencky + plasticity only)
+};
+
+struct Body {
+  std::string name;
+  int material = 0;
+  Shape shape;
+  Real temperature = 20.0;  // °C (carried; heat arrives with the thermomechanical MPM)
+  Vec3 velocity = Vec3::Zero();
+  Vec3 angular_velocity = Vec3::Zero();  // rad/s about the body's centre of mass
+};
+
+enum class HeatMethod { off, explicit_, implicit };
+
+struct Settings {
+  HeatMethod heat = HeatMethod::off;
+  // Stomakhin et al. 2014 baseline: heat and temperature-dependent plasticity
+  // only (no gas, no water, no porosity in the yield surface).
+  bool baseline = false;
+  Real heat_tolerance = 1e-8;  // implicit heat: relative residual of the conjugate gradients
+  int heat_max_iterations = 200;
+  Real cell_size = 0.01;       // Δx, m
+  int particles_per_cell = 8;  // initial sampling: a lattice of ppc^(1/3) per axis
+  Real cfl = 0.4;
+  Real max_dt = 1e-3;
+  int reorder_every = 16;  // steps between reordering particle memory by grid block
+};
+
+struct Setup {
+  Settings settings;
+  std::vector<Material> materials;
+  std::vector<Body> bodies;
+  // A collider acts on the grid nodes inside it (signed distance ≤ 0) through
+  // their velocity relative to its own; mesh colliders need their signed
+  // distance grid (MeshCollider::with_signed_distance).
+  std::vector<Collider> colliders;
+  Aabb domain;
+  // Domain walls: separating contact with Coulomb friction.
+  ContactLaw domain_contact{ContactMode::separate, FrictionModel::coulomb, 0.0, 1.0};
+  Vec3 gravity = Vec3(0, -9.81, 0);
+  Oven oven;  // air, bake clock, browning (physics/oven.hpp)
+};
+
+}  // namespace bakesim::mpm

@@ -1,0 +1,54 @@
+#pragma once
+// The oven both solvers bake in: the air temperature over bake time, the air's
+// heat transfer coefficient, the bake clock, and the browning kinetics; and the
+// temperatures of heated colliders at one bake time.
+//
+// Bake clock (docs/physics.md): heat, water, gas and browning run
+// `bake_time_scale` times faster than the mechanics, so a real bake of
+// scale × T seconds is simulated in T seconds of mechanics. Schedules (the
+// air's, the colliders') are given in bake time.
+#include <cstddef>
+#include <optional>
+#include <vector>
+
+#include "core/types.hpp"
+#include "physics/browning.hpp"
+#include "physics/curves.hpp"
+
+namespace bakesim {
+
+struct Oven {
+  PiecewiseLinear air_temperature = PiecewiseLinear::constant(20.0);  // °C over bake time (s)
+  Real heat_transfer_coefficient = 10.0;                              // β of the air, W/(m² K)
+  Real bake_time_scale = 1.0;                                         // bake seconds per simulated second
+  BrowningKinetics browning;                                          // crust colour from the temperature history
+
+  // Bake time at simulated time t, and the bake-time length of a mechanics step.
+  Real bake_time(Real time) const { return time * bake_time_scale; }
+  Real bake_step(Real dt) const { return dt * bake_time_scale; }
+  // Air temperature (°C) at simulated time t.
+  Real air_at(Real time) const { return air_temperature(bake_time(time)); }
+};
+
+// The temperature of each collider at one bake time, read once per step from
+// its schedule (0 for a collider without one) and looked up per particle or
+// node. Sized once: reading again does not allocate.
+class ColliderTemperatures {
+ public:
+  // `schedule(i)` returns collider i's optional temperature schedule.
+  template <class Schedule>
+  void read(std::size_t colliders, Schedule&& schedule, Real bake_time) {
+    values_.assign(colliders, 0.0);
+    for (std::size_t i = 0; i < colliders; ++i) {
+      const std::optional<PiecewiseLinear>& s = schedule(i);
+      if (s) values_[i] = (*s)(bake_time);
+    }
+  }
+  Real operator[](std::size_t i) const { return values_[i]; }
+  std::size_t size() const { return values_.size(); }
+
+ private:
+  std::vector<Real> values_;
+};
+
+}  // namespace bakesim

@@ -1,0 +1,53 @@
+// Health check after each step: non-finite state, a particle outside the
+// domain or a collapsed density stops the run with the particle named.
+#include "sph/solver.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "core/errors.hpp"
+#include "core/health.hpp"
+
+namespace bakesim::sph {
+
+void SphSolver::check_finite() {
+  ScopedPhase t(timers_, t_check_);
+  const std::size_t n = x_.size();
+  // Non-finite state, a particle outside the domain, or a density collapsed
+  // below 1% of the rest density (a particle that lost all its neighbours
+  // while inside the fluid: the pressure has blown the fluid apart).
+  auto collapsed = [&](std::size_t i) { return rho_[i] < 0.01 * setup_.materials[material_[i]].rest_density; };
+  const std::size_t bad = first_invalid(n, [&](std::size_t i) {
+    return x_[i].allFinite() && v_[i].allFinite() && std::isfinite(rho_[i]) && std::isfinite(p_[i]) &&
+           std::isfinite(temperature_[i]) && setup_.domain.contains(x_[i]) && !collapsed(i);
+  });
+  if (bad == n) return;
+  const std::string quantity = !x_[bad].allFinite()                ? "non-finite position"
+                               : !v_[bad].allFinite()              ? "non-finite velocity"
+                               : !std::isfinite(rho_[bad])         ? "non-finite density"
+                               : !std::isfinite(p_[bad])           ? "non-finite pressure"
+                               : !std::isfinite(temperature_[bad]) ? "non-finite temperature"
+                               : !setup_.domain.contains(x_[bad])  ? "position outside the domain"
+                                                                   : "collapsed density";
+  std::string neighbours;
+  const bool listed = bad < lists_.size();
+  const std::uint32_t* nb = listed ? lists_.begin(bad) : nullptr;
+  const std::uint32_t count = listed ? lists_.count(bad) : 0;
+  for (std::uint32_t k = 0; k < std::min<std::uint32_t>(count, 4); ++k) {
+    const std::uint32_t j = nb[k];
+    neighbours +=
+        fmt::format("{}particle {} (x ({:.4g}, {:.4g}, {:.4g}), v ({:.4g}, {:.4g}, {:.4g}), density {:.6g}, T {:.4g})",
+                    k ? "; " : "", id_[j], x_[j].x(), x_[j].y(), x_[j].z(), v_[j].x(), v_[j].y(), v_[j].z(), rho_[j],
+                    temperature_[j]);
+  }
+  throw SimulationError(
+      fmt::format("SPH step {} (t = {:.6g} s): particle {} of body '{}' has a {}: x ({:.4g}, {:.4g}, {:.4g}), v "
+                  "({:.4g}, {:.4g}, {:.4g}), "
+                  "density {:.6g} kg/m^3, pressure {:.6g} Pa, T {:.4g} degC, {} neighbours{}{}",
+                  steps_, time_, id_[bad], setup_.bodies[body_[bad]].name, quantity, x_[bad].x(), x_[bad].y(),
+                  x_[bad].z(), v_[bad].x(), v_[bad].y(), v_[bad].z(), rho_[bad], p_[bad], temperature_[bad], count,
+                  count ? ": " : "", neighbours));
+}
+
+}  // namespace bakesim::sph

@@ -1,0 +1,133 @@
+// Phase forces: pressure gradient, viscoelastic stress divergence, viscosity,
+// artificial viscosity and stress, surface tension, gravity and the wall
+// half-space pressure (Eq 3.18, 2.18, 3.19, 3.35–3.41, 3.28–3.30).
+#include "sph/solver.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
+
+#include "core/parallel.hpp"
+
+namespace bakesim::sph {
+
+void SphSolver::phase_forces() {
+  ScopedPhase t(timers_, t_forces_);
+  const Settings& s = setup_.settings;
+  const Vec3* x = x_.data();
+  const Vec3* v = v_.data();
+  const Real* m = m_.data();
+  const Real* rho = rho_.data();
+  const Real* p = p_.data();
+  const Real* mu = mu_.data();
+  const Real c = s.speed_of_sound;
+  const Real h = h_;
+  const Real av_eps_h2 = s.av_epsilon * h * h;
+  const bool artificial = s.av_alpha != 0.0 || s.av_beta != 0.0;
+  bool any_tension = false;
+  for (const Material& mat : setup_.materials) any_tension |= mat.surface_tension != 0.0;
+  const Vec3 g = setup_.gravity;
+  const bool wall_corr = s.wall_density_correction;
+
+  const Real* p_rho2 = p_over_rho2_.data();
+  const Real* vol = volume_.data();
+  const bool explicit_visc = !implicit_viscosity_;
+  const bool elastic = elastic_;
+  const Mat3* s_rho2 = elastic ? stress_rho2_.data() : nullptr;
+  const Real visc_c = visc_lap_.coefficient();  // Eq 3.8 (all listed pairs have r < h)
+  const Real* hsup = smoothing_.data();
+  const bool adaptive = adaptive_;
+  // Monaghan (2000) artificial stress: R_i = Q diag(−ε max(σ'_a, 0)/ρ_i²) Qᵀ
+  // from the principal stresses σ'_a of the total stress S − p I.
+  const bool art_stress = elastic && s.artificial_stress > 0.0;
+  const Real art_n = s.artificial_stress_exponent;
+  if (art_stress) {
+    artificial_stress_.resize(x_.size());
+    const Real eps = s.artificial_stress;
+    parallel_for(
+        x_.size(),
+        [&](std::size_t i) {
+          const Mat3 sigma = s_rho2[i] - p_rho2[i] * Mat3::Identity();
+          Eigen::SelfAdjointEigenSolver<Mat3> eig;
+          eig.computeDirect(sigma);
+          const Vec3 r = (-eps * eig.eigenvalues().cwiseMax(0.0)).eval();
+          artificial_stress_[i] = eig.eigenvectors() * r.asDiagonal() * eig.eigenvectors().transpose();
+        },
+        1024);
+  }
+  const Mat3* art = art_stress ? artificial_stress_.data() : nullptr;
+  // f = W(r)/W(Δp) with the pair's W from the density phase; with adaptive h
+  // the spacing scales with h_ij, and W_hij(Δp h_ij/h) = W_h(Δp) (h/h_ij)³.
+  const Real inv_w_dp = 1.0 / kernel_.w(s.spacing);
+  const Real inv_h3 = 1.0 / (h * h * h);
+  parallel_for(x_.size(), [&](std::size_t i) {
+    const Vec3 xi = x[i], vi = v[i];
+    const Real hi = hsup[i];
+    const Real lap_w0 = adaptive ? CubicSpline(hi).laplacian(0.0) : kernel_.laplacian(0.0);
+    const Real rhoi = rho[i], pi_rho2 = p_rho2[i], mui = mu[i];
+    Vec3 acc_p = Vec3::Zero(), acc_v = Vec3::Zero(), acc_av = Vec3::Zero(), acc_s = Vec3::Zero();
+    const Vec3 normal = colour_grad_[i];
+    // The colour sums run over all j including i (Eq 3.28); the self term of
+    // the Laplacian is large and negative, without it ∇²C is biased positive
+    // and the force would point outwards.
+    Real lap_c = vol[i] * lap_w0;
+    const std::uint32_t* nb = lists_.begin(i);
+    const std::uint32_t count = lists_.count(i);
+    const float* pr = lists_.distances(i);
+    const float* pd = pair_dwr_.data() + i * lists_.stride();
+    const float* pw = pair_w_.data() + i * lists_.stride();
+    for (std::uint32_t k = 0; k < count; ++k) {
+      const std::uint32_t j = nb[k];
+      const Real r = pr[k];
+      const Vec3 xij = xi - x[j];
+      const Vec3 grad = Real(pd[k]) * xij;  // zero for coincident particles
+      // Eq 3.56: the pair's support (the global h unless adaptive).
+      const Real hij = adaptive ? 0.5 * (hi + hsup[j]) : h;
+      // Eq 3.18: symmetric pressure gradient.
+      acc_p -= (m[j] * (pi_rho2 + p_rho2[j])) * grad;
+      // Eq 3.19: pairwise-averaged viscosity with the viscosity-kernel Laplacian.
+      const Vec3 vij = vi - v[j];
+      if (explicit_visc) {
+        const Real vc = adaptive ? ViscosityLaplacian::coefficient_for(hij) : visc_c;
+        acc_v -= (0.5 * (mui + mu[j]) * vol[j] * vc * (hij - r)) * vij;
+      }
+      // Divergence of the viscoelastic stress (Eq 2.18 in SPH form):
+      // Σ m_j (S_i/ρ_i² + S_j/ρ_j²) ∇_i W_ij.
+      if (elastic) acc_s += m[j] * ((s_rho2[i] + s_rho2[j]) * grad);
+      // Artificial stress: m_j f_ij^n (R_i + R_j) ∇_i W_ij, f = W(r)/W(Δp).
+      if (art_stress) {
+        const Real f = Real(pw[k]) * inv_w_dp * (adaptive ? hij * hij * hij * inv_h3 : 1.0);
+        const Real fn = art_n == 4.0 ? (f * f) * (f * f) : std::pow(f, art_n);
+        acc_s += (m[j] * fn) * ((art[i] + art[j]) * grad);
+      }
+      // Eq 3.35–3.41: artificial viscosity, only for approaching pairs
+      // (branch-free: min(v·x, 0) makes Π vanish for receding pairs).
+      if (artificial) {
+        const Real vx = std::min(vij.dot(xij), 0.0);
+        const Real denom = r * r + (adaptive ? s.av_epsilon * hij * hij : av_eps_h2);
+        const Real inv = 1.0 / (denom * denom * 0.5 * (rhoi + rho[j]));
+        const Real hvx = hij * vx;
+        const Real pi_ij = (-s.av_alpha * c * hvx * denom + s.av_beta * hvx * hvx) * inv;
+        acc_av -= (m[j] * pi_ij) * grad;
+      }
+      // Eq 3.29: colour field Laplacian (the gradient, Eq 3.28, comes from the surface phase).
+      if (any_tension) lap_c += vol[j] * (adaptive ? CubicSpline(hij).laplacian(r) : kernel_.laplacian(r));
+    }
+    Vec3 acc = acc_p + acc_v / rhoi + acc_av + acc_s + g;
+    if (any_tension) {
+      const Real sigma = setup_.materials[material_[i]].surface_tension;
+      const Real nn = normal.norm();
+      // Eq 3.30, only where |N| is large enough for a stable direction.
+      if (sigma != 0.0 && nn * hi > s.surface_threshold) acc += (-sigma / rhoi * lap_c / nn) * normal;
+    }
+    if (wall_corr && p[i] > 0) {
+      // Pressure of the wall half-space mirrored at the particle's pressure.
+      const Real rho0 = setup_.materials[material_[i]].rest_density;
+      const Real coef = p[i] * (1.0 / (rhoi * rhoi) + 1.0 / (rho0 * rho0)) * rho0;
+      Vec3 grad_share;
+      if (wall_share(xi, &grad_share) > 0) acc -= coef * grad_share;
+    }
+    a_[i] = acc;
+  });
+}
+
+}  // namespace bakesim::sph

@@ -1,0 +1,129 @@
+// Phases heat (conduction Eq 3.45–3.46, surface exchange Eq 3.42–3.43) and
+// browning (Zanoni et al. 1995), both on the bake clock.
+#include "sph/solver.hpp"
+
+#include <cmath>
+#include <limits>
+
+#include "core/parallel.hpp"
+#include "physics/heat.hpp"
+
+namespace bakesim::sph {
+
+// Eq 3.45–3.46: ρ c_p dT/dt = ∇·(k∇T). The kernel Laplacian of Eq 3.46
+// changes sign inside the support (heat could flow from cold to hot for close
+// pairs), so the Laplacian is taken in the Cleary–Monaghan form
+//   (∇·k∇T)_i = Σ_j V_j (k_i + k_j)(T_i − T_j) x_ij·∇W_ij / (r² + η²),
+// which is always diffusive and exchanges heat pairwise (energy is conserved).
+// Then Eq 3.42–3.43 at surface particles: m c_p dT/dt = h A (T_ext − T) with
+// T_ext the touching collider's temperature, or the oven air's. Heat runs on
+// the bake clock: dt_bake = scale · dt.
+void SphSolver::phase_heat(Real dt) {
+  ScopedPhase t(timers_, t_heat_);
+  const Oven& oven = setup_.oven;
+  const Real dt_bake = oven.bake_step(dt);
+  const std::size_t n = x_.size();
+  if (setup_.settings.heat_conduction) {
+    // Nothing flows in an isothermal state (a common case: water at room temperature).
+    using Range = std::pair<Real, Real>;
+    const Real inf = std::numeric_limits<Real>::infinity();
+    const Range range = deterministic_reduce(
+        n, Range{inf, -inf},
+        [&](std::size_t b, std::size_t e) {
+          Range r{inf, -inf};
+          for (std::size_t i = b; i < e; ++i) {
+            r.first = std::min(r.first, temperature_[i]);
+            r.second = std::max(r.second, temperature_[i]);
+          }
+          return r;
+        },
+        [](Range a, Range b) {
+          return Range{std::min(a.first, b.first), std::max(a.second, b.second)};
+        });
+    if (range.second > range.first) {
+      const Real eta2_fixed = 0.01 * h_ * h_;
+      const Real* hsup = smoothing_.data();
+      const Real* temp = temperature_.data();
+      const Real* vol = volume_.data();
+      parallel_for(n, [&](std::size_t i) {
+        const Material& mi = setup_.materials[material_[i]];
+        const Real ti = temp[i], ki = mi.conductivity;
+        const std::uint32_t* nb = lists_.begin(i);
+        const std::uint32_t count = lists_.count(i);
+        const float* pr = lists_.distances(i);
+        const float* pd = pair_dwr_.data() + i * lists_.stride();
+        Real sum = 0;
+        for (std::uint32_t k = 0; k < count; ++k) {
+          const std::uint32_t j = nb[k];
+          const Real r = pr[k];
+          // x_ij·∇W = r² W'(r)/r
+          const Real kj = conductivity_[material_[j]];
+          const Real hij = 0.5 * (hsup[i] + hsup[j]);
+          const Real eta2 = adaptive_ ? 0.01 * hij * hij : eta2_fixed;
+          sum += vol[j] * (ki + kj) * (ti - temp[j]) * (Real(pd[k]) * r * r) / (r * r + eta2);
+        }
+        dtemp_[i] = setup_.bodies[body_[i]].hold_temperature ? 0.0 : dt_bake * sum / (rho_[i] * mi.specific_heat);
+      });
+      parallel_for(
+          n, [&](std::size_t i) { temperature_[i] += dtemp_[i]; }, 4096);
+    }
+  }
+  // External exchange (Eq 3.42 with the sign and heat capacity restored).
+  const Real air = oven.air_temperature(bake_time());
+  const Real h_air = oven.heat_transfer_coefficient;
+  const Real touch = setup_.settings.spacing;  // contact: within one spacing of the collider surface
+  // Collider temperatures at this bake time, read once (walls, then meshes).
+  wall_temperatures_.read(
+      walls_.size(), [&](std::size_t c) -> const auto& { return walls_[c].temperature; }, bake_time());
+  mesh_temperatures_.read(
+      meshes_.size(), [&](std::size_t c) -> const auto& { return meshes_[c].temperature; }, bake_time());
+  parallel_for(
+      n,
+      [&](std::size_t i) {
+        dtemp_[i] = 0.0;
+        if (!surface_[i] || area_[i] <= 0 || setup_.bodies[body_[i]].hold_temperature) return;
+        Real outside = air, coefficient = h_air;
+        if (heated_colliders_) {
+          bool found = false;
+          for (std::size_t ci = 0; ci < walls_.size(); ++ci) {
+            const Collider& c = walls_[ci];
+            if (!c.temperature || found) continue;
+            for_each_wall_of(ci, x_[i], touch, [&](const WallContact&, const Vec3&) { found = true; });
+            if (found) {
+              outside = wall_temperatures_[ci];
+              coefficient = c.heat_transfer_coefficient;
+            }
+          }
+          const Real len = colour_grad_[i].norm();
+          for (std::size_t ci = 0; ci < meshes_.size(); ++ci) {
+            const Collider& c = meshes_[ci];
+            if (!c.temperature || found || len <= 0) continue;
+            const Vec3 out = -colour_grad_[i] / len;
+            if (mesh_segment_hits(std::get<MeshCollider>(c.geometry), x_[i], x_[i] + touch * out, 0.0).hits > 0) {
+              found = true;
+              outside = mesh_temperatures_[ci];
+              coefficient = c.heat_transfer_coefficient;
+            }
+          }
+        }
+        const Real capacity = m_[i] * setup_.materials[material_[i]].specific_heat;
+        const Real before = temperature_[i];
+        temperature_[i] = SurfaceExchange::relax(before, outside, coefficient, area_[i], capacity, dt_bake);
+        dtemp_[i] = exchanged_energy(before, temperature_[i], capacity);
+      },
+      1024);
+  exchanged_heat_ += deterministic_sum(n, [&](std::size_t i) { return dtemp_[i]; });
+}
+
+// Crust colour (Zanoni et al. 1995, physics/browning.hpp) from each particle's
+// temperature, on the bake clock. Every particle browns at its own
+// temperature; the crust browns first because it is the hottest.
+void SphSolver::phase_browning(Real dt) {
+  ScopedPhase t(timers_, t_browning_);
+  const BrowningKinetics& kinetics = setup_.oven.browning;
+  const Real dt_bake = setup_.oven.bake_step(dt);
+  parallel_for(x_.size(),
+               [&](std::size_t i) { browning_[i] = kinetics.advance(browning_[i], temperature_[i], dt_bake); });
+}
+
+}  // namespace bakesim::sph

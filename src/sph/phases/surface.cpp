@@ -1,0 +1,72 @@
+// Phase surface: colour gradient, surface particles and their exchange areas
+// (thesis 3.1.8, Eq 3.28, 3.43).
+#include "sph/solver.hpp"
+
+#include <tbb/enumerable_thread_specific.h>
+
+#include "core/parallel.hpp"
+
+namespace bakesim::sph {
+
+namespace {
+
+// Fewer neighbours than this (a full support holds about 33 at h = 2s) mark a
+// particle as surface whatever its colour gradient.
+constexpr std::uint32_t kSparseNeighbours = 6;
+
+}  // namespace
+
+// Colour gradient ∇C_i = Σ V_j ∇W_ij (Eq 3.28; points into the fluid) and the
+// surface particles (thesis 3.1.8): |∇C| h above a threshold (colour), or the
+// local convex hull test (convex_hull, every `surface_every` steps). Surface
+// particles get the exchange area A_i = π r_i² with 4/3 π r_i³ = m_i/ρ0 (Eq 3.43).
+void SphSolver::phase_surface() {
+  ScopedPhase t(timers_, t_surface_);
+  const Settings& s = setup_.settings;
+  const std::size_t n = x_.size();
+  colour_grad_.resize(n);
+  parallel_for(n, [&](std::size_t i) {
+    Vec3 grad = Vec3::Zero();
+    const std::uint32_t* nb = lists_.begin(i);
+    const std::uint32_t count = lists_.count(i);
+    const float* pd = pair_dwr_.data() + i * lists_.stride();
+    for (std::uint32_t k = 0; k < count; ++k) {
+      const std::uint32_t j = nb[k];
+      grad += (m_[j] / rho_[j] * Real(pd[k])) * (x_[i] - x_[j]);
+    }
+    colour_grad_[i] = grad;
+  });
+  if (s.surface_method == SurfaceMethod::colour) {
+    const Real threshold = s.surface_colour_threshold;
+    // A particle with almost no neighbours (blown off, or at the tip of an
+    // expanded bubble) has a vanishing gradient but is surface all the same.
+    parallel_for(
+        n,
+        [&](std::size_t i) {
+          surface_[i] =
+              colour_grad_[i].norm() * smoothing_[i] >= threshold || lists_.count(i) < kSparseNeighbours ? 1 : 0;
+        },
+        4096);
+  } else if (steps_ % s.surface_every == 0) {
+    const Real threshold = s.surface_hull_threshold * s.spacing;
+    struct Scratch {
+      LocalConvexHull hull;
+      std::vector<Vec3> points;
+    };
+    tbb::enumerable_thread_specific<Scratch> scratch;
+    parallel_for(
+        n,
+        [&](std::size_t i) {
+          Scratch& sc = scratch.local();
+          sc.points.clear();
+          const std::uint32_t* nb = lists_.begin(i);
+          for (std::uint32_t k = 0; k < lists_.count(i); ++k) sc.points.push_back(x_[nb[k]]);
+          surface_[i] = sc.hull.distance_to_boundary(x_[i], sc.points.data(), sc.points.size()) < threshold ? 1 : 0;
+        },
+        64);
+  }
+  parallel_for(
+      n, [&](std::size_t i) { area_[i] = surface_[i] ? exchange_area_[material_[i]] : 0.0; }, 4096);
+}
+
+}  // namespace bakesim::sph
