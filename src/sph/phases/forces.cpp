@@ -1,12 +1,19 @@
 // Phase forces: pressure gradient, viscoelastic stress divergence, viscosity,
 // artificial viscosity and stress, surface tension, gravity and the wall
-// half-space pressure (Eq 3.18, 2.18, 3.19, 3.35–3.41, 3.28–3.30).
+// half-space pressure (Eq 3.18, 2.18, 3.19, 3.35–3.41, 3.28–3.30). The pair
+// terms are the laws of src/sph/forces/ (one file each, unit-tested alone);
+// this phase owns the one fused loop over the neighbours that sums them.
 #include "sph/solver.hpp"
 
-#include <Eigen/Eigenvalues>
 #include <cmath>
 
 #include "core/parallel.hpp"
+#include "sph/forces/artificial_stress.hpp"
+#include "sph/forces/artificial_viscosity.hpp"
+#include "sph/forces/maxwell.hpp"
+#include "sph/forces/pressure.hpp"
+#include "sph/forces/surface_tension.hpp"
+#include "sph/forces/viscosity.hpp"
 
 namespace bakesim::sph {
 
@@ -45,13 +52,7 @@ void SphSolver::phase_forces() {
     const Real eps = s.artificial_stress;
     parallel_for(
         x_.size(),
-        [&](std::size_t i) {
-          const Mat3 sigma = s_rho2[i] - p_rho2[i] * Mat3::Identity();
-          Eigen::SelfAdjointEigenSolver<Mat3> eig;
-          eig.computeDirect(sigma);
-          const Vec3 r = (-eps * eig.eigenvalues().cwiseMax(0.0)).eval();
-          artificial_stress_[i] = eig.eigenvectors() * r.asDiagonal() * eig.eigenvectors().transpose();
-        },
+        [&](std::size_t i) { artificial_stress_[i] = forces::artificial_stress_tensor(s_rho2[i], p_rho2[i], eps); },
         1024);
   }
   const Mat3* art = art_stress ? artificial_stress_.data() : nullptr;
@@ -83,30 +84,27 @@ void SphSolver::phase_forces() {
       // Eq 3.56: the pair's support (the global h unless adaptive).
       const Real hij = adaptive ? 0.5 * (hi + hsup[j]) : h;
       // Eq 3.18: symmetric pressure gradient.
-      acc_p -= (m[j] * (pi_rho2 + p_rho2[j])) * grad;
+      acc_p -= forces::pressure_gradient(m[j], pi_rho2, p_rho2[j], grad);
       // Eq 3.19: pairwise-averaged viscosity with the viscosity-kernel Laplacian.
       const Vec3 vij = vi - v[j];
       if (explicit_visc) {
         const Real vc = adaptive ? ViscosityLaplacian::coefficient_for(hij) : visc_c;
-        acc_v -= (0.5 * (mui + mu[j]) * vol[j] * vc * (hij - r)) * vij;
+        acc_v -= forces::viscosity_weight(mui, mu[j], vol[j], vc, hij, r) * vij;
       }
       // Divergence of the viscoelastic stress (Eq 2.18 in SPH form):
       // Σ m_j (S_i/ρ_i² + S_j/ρ_j²) ∇_i W_ij.
-      if (elastic) acc_s += m[j] * ((s_rho2[i] + s_rho2[j]) * grad);
+      if (elastic) acc_s += forces::stress_divergence(m[j], s_rho2[i], s_rho2[j], grad);
       // Artificial stress: m_j f_ij^n (R_i + R_j) ∇_i W_ij, f = W(r)/W(Δp).
       if (art_stress) {
         const Real f = Real(pw[k]) * inv_w_dp * (adaptive ? hij * hij * hij * inv_h3 : 1.0);
-        const Real fn = art_n == 4.0 ? (f * f) * (f * f) : std::pow(f, art_n);
-        acc_s += (m[j] * fn) * ((art[i] + art[j]) * grad);
+        acc_s += forces::artificial_stress(m[j], f, art_n, art[i], art[j], grad);
       }
       // Eq 3.35–3.41: artificial viscosity, only for approaching pairs
       // (branch-free: min(v·x, 0) makes Π vanish for receding pairs).
       if (artificial) {
-        const Real vx = std::min(vij.dot(xij), 0.0);
-        const Real denom = r * r + (adaptive ? s.av_epsilon * hij * hij : av_eps_h2);
-        const Real inv = 1.0 / (denom * denom * 0.5 * (rhoi + rho[j]));
-        const Real hvx = hij * vx;
-        const Real pi_ij = (-s.av_alpha * c * hvx * denom + s.av_beta * hvx * hvx) * inv;
+        const Real eps_h2 = adaptive ? s.av_epsilon * hij * hij : av_eps_h2;
+        const Real pi_ij =
+            forces::artificial_viscosity(vij, xij, r, hij, eps_h2, rhoi, rho[j], s.av_alpha, s.av_beta, c);
         acc_av -= (m[j] * pi_ij) * grad;
       }
       // Eq 3.29: colour field Laplacian (the gradient, Eq 3.28, comes from the surface phase).
@@ -117,7 +115,7 @@ void SphSolver::phase_forces() {
       const Real sigma = setup_.materials[material_[i]].surface_tension;
       const Real nn = normal.norm();
       // Eq 3.30, only where |N| is large enough for a stable direction.
-      if (sigma != 0.0 && nn * hi > s.surface_threshold) acc += (-sigma / rhoi * lap_c / nn) * normal;
+      if (sigma != 0.0 && nn * hi > s.surface_threshold) acc += forces::surface_tension(sigma, rhoi, lap_c, normal, nn);
     }
     if (wall_corr && p[i] > 0) {
       // Pressure of the wall half-space mirrored at the particle's pressure.

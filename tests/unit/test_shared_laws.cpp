@@ -1,0 +1,229 @@
+// The laws both solvers share, each tested alone: the oven and bake clock,
+// collider temperatures, the surface exchange, the contact law, the health
+// scan; the SPH pair terms; the MPM grid (B-spline weights, block colouring).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numeric>
+#include <map>
+#include <mutex>
+#include <set>
+
+#include "core/health.hpp"
+#include "geometry/contact.hpp"
+#include "mpm/grid.hpp"
+#include "physics/heat.hpp"
+#include "physics/oven.hpp"
+#include "sph/forces/artificial_stress.hpp"
+#include "sph/forces/artificial_viscosity.hpp"
+#include "sph/forces/maxwell.hpp"
+#include "sph/forces/pressure.hpp"
+#include "sph/forces/surface_tension.hpp"
+#include "sph/forces/viscosity.hpp"
+
+using namespace bakesim;
+
+TEST(Oven, BakeClockScalesTimeAndReadsTheScheduleInBakeTime) {
+  Oven oven;
+  oven.bake_time_scale = 600;
+  oven.air_temperature = PiecewiseLinear({{0.0, 20.0}, {1200.0, 220.0}});
+  EXPECT_DOUBLE_EQ(oven.bake_time(1.5), 900.0);
+  EXPECT_DOUBLE_EQ(oven.bake_step(1e-3), 0.6);
+  // 1 s of mechanics is 600 s of bake: half way up the ramp.
+  EXPECT_DOUBLE_EQ(oven.air_at(1.0), 120.0);
+  EXPECT_DOUBLE_EQ(oven.air_at(5.0), 220.0);  // held after the last point
+}
+
+TEST(Oven, ColliderTemperaturesAreReadOncePerBakeTimeAndZeroWithoutASchedule) {
+  std::vector<std::optional<PiecewiseLinear>> schedules = {PiecewiseLinear({{0.0, 100.0}, {100.0, 200.0}}),
+                                                           std::nullopt, PiecewiseLinear::constant(180.0)};
+  ColliderTemperatures t;
+  t.read(
+      schedules.size(), [&](std::size_t i) -> const auto& { return schedules[i]; }, 50.0);
+  ASSERT_EQ(t.size(), 3u);
+  EXPECT_DOUBLE_EQ(t[0], 150.0);
+  EXPECT_DOUBLE_EQ(t[1], 0.0);
+  EXPECT_DOUBLE_EQ(t[2], 180.0);
+}
+
+TEST(SurfaceExchange, SumsPartsAndRelaxesExactlyTowardsTheOutside) {
+  SurfaceExchange e;
+  e.add(2e-4, 10.0, 200.0);   // air: 2 cm², 10 W/m²K, 200 °C
+  e.add(1e-4, 500.0, 180.0);  // a hot tray under part of it
+  EXPECT_NEAR(e.conductance, 2e-3 + 5e-2, 1e-15);
+  // q = Σ β A (θ_c − θ) at θ = 20 °C.
+  EXPECT_NEAR(e.heat_rate(20.0), 2e-3 * 180.0 + 5e-2 * 160.0, 1e-12);
+  // Lumped particle, one outside: θ(t) = θ_out + (θ0 − θ_out) e^{−βA t / C}.
+  const Real c = 0.5, beta = 10, area = 1e-3, dt = 7.0;
+  const Real exact = 200.0 + (20.0 - 200.0) * std::exp(-beta * area * dt / c);
+  EXPECT_NEAR(SurfaceExchange::relax(20.0, 200.0, beta, area, c, dt), exact, 1e-12);
+  // Never overshoots, whatever the step.
+  EXPECT_LE(SurfaceExchange::relax(20.0, 200.0, beta, area, c, 1e9), 200.0);
+  EXPECT_GT(SurfaceExchange::relax(20.0, 200.0, beta, area, c, 1e9), 199.999);
+}
+
+TEST(ContactLaw, ModesFrictionModelsAndDamping) {
+  const Vec3 n = Vec3::UnitY();
+  const Vec3 in(3.0, -2.0, 0.0), out(3.0, 2.0, 0.0);
+  Vec3 v = in;
+  apply_contact(v, n, {ContactMode::sticky, FrictionModel::coulomb, 0.0, 1.0});
+  EXPECT_EQ(v, Vec3::Zero());
+  // separate: only an approaching velocity is changed; slip: both ways.
+  v = out;
+  apply_contact(v, n, {ContactMode::separate, FrictionModel::coulomb, 0.5, 1.0});
+  EXPECT_EQ(v, out);
+  v = out;
+  apply_contact(v, n, {ContactMode::slip, FrictionModel::coulomb, 0.0, 1.0});
+  EXPECT_EQ(v, Vec3(3.0, 0.0, 0.0));
+  // Coulomb: |v_t| shrinks by μ |v_n| = 0.5 · 2 = 1, never past zero.
+  v = in;
+  apply_contact(v, n, {ContactMode::separate, FrictionModel::coulomb, 0.5, 1.0});
+  EXPECT_NEAR((v - Vec3(2.0, 0.0, 0.0)).norm(), 0.0, 1e-15);
+  v = in;
+  apply_contact(v, n, {ContactMode::separate, FrictionModel::coulomb, 10.0, 1.0});
+  EXPECT_EQ(v, Vec3::Zero());
+  // Velocity share (thesis Eq 3.33): v = (1 − f) v_t − (1 − d) v_n.
+  v = in;
+  apply_contact(v, n, {ContactMode::separate, FrictionModel::velocity_share, 0.25, 0.5});
+  EXPECT_NEAR((v - Vec3(2.25, 1.0, 0.0)).norm(), 0.0, 1e-15);
+  // Damping 0 bounces elastically, Coulomb too.
+  v = in;
+  apply_contact(v, n, {ContactMode::separate, FrictionModel::coulomb, 0.0, 0.0});
+  EXPECT_NEAR((v - out).norm(), 0.0, 1e-15);
+}
+
+TEST(Health, FirstInvalidIsTheLowestBadIndexOnAnyChunking) {
+  std::vector<double> x(20000, 1.0);
+  EXPECT_EQ(first_invalid(x.size(), [&](std::size_t i) { return std::isfinite(x[i]); }), x.size());
+  x[17001] = NAN;
+  x[9000] = INFINITY;
+  EXPECT_EQ(first_invalid(x.size(), [&](std::size_t i) { return std::isfinite(x[i]); }), 9000u);
+}
+
+TEST(SphForces, PairTermsAreEqualAndOppositeSoMomentumIsConserved) {
+  // ∇_i W_ij = −∇_j W_ji; every symmetric pair term then cancels in Σ m a.
+  const Vec3 grad(0.3, -1.2, 0.5);
+  const Real mi = 2e-3, mj = 3e-3;
+  const Vec3 fij = mi * sph::forces::pressure_gradient(mj, 4.0, 7.0, grad);
+  const Vec3 fji = mj * sph::forces::pressure_gradient(mi, 7.0, 4.0, -grad);
+  EXPECT_NEAR((fij + fji).norm(), 0.0, 1e-15);
+  Mat3 si, sj;
+  si << 1, 2, 3, 2, 5, 6, 3, 6, 9;
+  sj << -4, 1, 0, 1, 2, -1, 0, -1, 3;
+  const Vec3 gij = mi * sph::forces::stress_divergence(mj, si, sj, grad);
+  const Vec3 gji = mj * sph::forces::stress_divergence(mi, sj, si, -grad);
+  EXPECT_NEAR((gij + gji).norm(), 0.0, 1e-15);
+  // The pressure term is m_j (P_i/ρ_i² + P_j/ρ_j²) ∇W.
+  EXPECT_NEAR((sph::forces::pressure_gradient(mj, 4.0, 7.0, grad) - mj * 11.0 * grad).norm(), 0.0, 1e-15);
+}
+
+TEST(SphForces, ViscosityWeightIsNonNegativeAndVanishesAtTheSupport) {
+  const Real h = 0.02, c = 45.0 / (kPi * std::pow(h, 6));
+  EXPECT_NEAR(sph::forces::viscosity_weight(1.0, 3.0, 1e-6, c, h, h), 0.0, 1e-300);
+  const Real w = sph::forces::viscosity_weight(1.0, 3.0, 1e-6, c, h, 0.5 * h);
+  EXPECT_NEAR(w, 2.0 * 1e-6 * c * 0.5 * h, 1e-9 * w);
+  EXPECT_GT(w, 0.0);
+}
+
+TEST(SphForces, ArtificialViscosityActsOnlyOnApproachingPairs) {
+  const Vec3 x_ij(0.01, 0, 0);
+  const Real r = 0.01, h = 0.02, eps_h2 = 0.01 * h * h;
+  // Receding: zero.
+  EXPECT_EQ(sph::forces::artificial_viscosity(Vec3(1, 0, 0), x_ij, r, h, eps_h2, 1000, 1000, 1, 1, 20), 0.0);
+  // Approaching at 1 m/s: φ = h v·x / (r² + εh²), Π = (−α c φ + β φ²)/ρ̄.
+  const Real phi = h * (-0.01) / (r * r + eps_h2);
+  const Real expected = (-1.0 * 20.0 * phi + 2.0 * phi * phi) / 1000.0;
+  const Real pi = sph::forces::artificial_viscosity(Vec3(-1, 0, 0), x_ij, r, h, eps_h2, 900, 1100, 1, 2, 20);
+  EXPECT_NEAR(pi, expected, 1e-12 * std::abs(expected));
+  EXPECT_GT(pi, 0.0);
+}
+
+TEST(SphForces, ArtificialStressOnlyOpposesTension) {
+  Mat3 compress = -5.0 * Mat3::Identity();
+  EXPECT_NEAR(sph::forces::artificial_stress_tensor(compress, 0.0, 0.3).norm(), 0.0, 1e-12);
+  // Uniaxial tension σ_xx = 10 (over ρ²): R = diag(−ε 10, 0, 0).
+  Mat3 tension = Mat3::Zero();
+  tension(0, 0) = 10.0;
+  const Mat3 r = sph::forces::artificial_stress_tensor(tension, 0.0, 0.3);
+  EXPECT_NEAR(r(0, 0), -3.0, 1e-12);
+  EXPECT_NEAR(r.norm(), 3.0, 1e-12);
+  // A positive pressure cancels the tension: (S − P I) = 0 along x.
+  EXPECT_NEAR(sph::forces::artificial_stress_tensor(tension, 10.0, 0.3).norm(), 0.0, 1e-12);
+  // The pair term with f^n (n = 4 and a general n agree at n = 4).
+  const Vec3 grad(1, 0, 0);
+  const Vec3 a4 = sph::forces::artificial_stress(2.0, 0.5, 4.0, r, r, grad);
+  EXPECT_NEAR((a4 - 2.0 * 0.0625 * (2.0 * r * grad)).norm(), 0.0, 1e-15);
+  EXPECT_NEAR((sph::forces::artificial_stress(2.0, 0.5, 3.0, r, r, grad) - 2.0 * 0.125 * (2.0 * r * grad)).norm(), 0.0,
+              1e-15);
+}
+
+TEST(SphForces, SurfaceTensionPullsAlongTheNormalByTheCurvature) {
+  const Vec3 normal(0, 40, 0);  // ∇C into the fluid
+  // ∇²C < 0 at a convex surface: the pull points into the fluid (along N).
+  const Vec3 a = sph::forces::surface_tension(0.07, 1000, -5e3, normal, 40.0);
+  EXPECT_NEAR(a.y(), 0.07 / 1000 * 5e3, 1e-12);
+  EXPECT_EQ(a.x(), 0.0);
+}
+
+TEST(MpmGrid, QuadraticBSplineWeightsArePartitionOfUnityAndReproduceLinears) {
+  for (Real x : {3.0, 3.25, 3.5, 3.77, 4.499}) {
+    const mpm::Axis a = mpm::axis_weights(x);
+    Real sum = 0, first = 0;
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_GE(a.w[k], 0.0);
+      sum += a.w[k];
+      first += a.w[k] * (a.base + k);  // Σ w x_i = x_p
+    }
+    EXPECT_NEAR(sum, 1.0, 1e-14);
+    EXPECT_NEAR(first, x, 1e-14);
+    // Second moment Σ w (x_i − x_p)² = 1/4 (the D = Δx²/4 of APIC).
+    Real second = 0;
+    for (int k = 0; k < 3; ++k) second += a.w[k] * (k - a.frac) * (k - a.frac);
+    EXPECT_NEAR(second, 0.25, 1e-14);
+  }
+}
+
+TEST(MpmGrid, BlocksOfOneColourNeverShareANodeAndTheOrderIsAPermutation) {
+  mpm::BlockOrder blocks;
+  const int n = 33;  // nodes per axis
+  blocks.resize(n, n, n);
+  std::vector<Vec3> x;
+  for (int i = 0; i < 4000; ++i)
+    x.emplace_back(1.0 + 0.007 * (i % 29) * 1.1, 1.0 + 0.003 * (i % 97), 1.0 + 0.0011 * (i % 211));
+  const Vec3 origin(0.97, 0.97, 0.97);
+  const Real inv_dx = 100.0;
+  blocks.sort(x, origin, inv_dx);
+  blocks.colour();
+  std::vector<std::uint32_t> order = blocks.order();
+  std::sort(order.begin(), order.end());
+  for (std::size_t i = 0; i < order.size(); ++i) ASSERT_EQ(order[i], i);
+  // Every particle is visited once, blocks of one colour have the colour's
+  // parity, and within one colour no node is reached from two blocks.
+  std::vector<int> visits(x.size(), 0);
+  for (std::size_t colour = 0; colour < blocks.colour_blocks().size(); ++colour)
+    for (std::uint32_t b : blocks.colour_blocks()[colour]) {
+      std::size_t ijk[3];
+      blocks.block_index(b, ijk);
+      for (int d = 0; d < 3; ++d) EXPECT_EQ(ijk[d] & 1, (colour >> d) & 1);
+    }
+  std::mutex mutex;
+  std::map<std::size_t, std::pair<std::size_t, long>> owner;  // node -> (colour, block)
+  blocks.for_each_by_colour(
+      x, origin, inv_dx, [&](std::uint32_t p, const mpm::Axis& ax, const mpm::Axis& ay, const mpm::Axis& az) {
+        std::lock_guard<std::mutex> lock(mutex);
+        ++visits[p];
+        const long block =
+            (long(std::max(0, ax.base) / 4) * 9 + std::max(0, ay.base) / 4) * 9 + std::max(0, az.base) / 4;
+        const std::size_t colour = (std::max(0, ax.base) / 4 & 1) | ((std::max(0, ay.base) / 4 & 1) << 1) |
+                                   ((std::max(0, az.base) / 4 & 1) << 2);
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j)
+            for (int k = 0; k < 3; ++k) {
+              const std::size_t node = (std::size_t(ax.base + i) * n + (ay.base + j)) * n + (az.base + k);
+              auto [it, fresh] = owner.try_emplace(node, colour, block);
+              if (!fresh && it->second.first == colour) EXPECT_EQ(it->second.second, block) << "node " << node;
+              if (!fresh) it->second = {colour, block};
+            }
+      });
+  for (int v : visits) EXPECT_EQ(v, 1);
+}
