@@ -117,7 +117,7 @@ int command_run(const RunArgs& a) {
          hw);
   auto solver = make_solver(scene);
   L.info("{} particles; output in {}", solver->particles().size(), out.string());
-  RunOutput output(out, scene, log);
+  RunOutput output(out, scene, *solver, log);
   FrameLoopConfig cfg;
   cfg.end_time = scene.end_time;
   cfg.fps = scene.fps;

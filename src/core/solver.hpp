@@ -23,10 +23,14 @@ class Solver {
   virtual Real time() const = 0;
   virtual const ParticleSet& particles() const = 0;
   virtual const PhaseTimers& timers() const = 0;
-  // Interpolated quantities at a point (NaN where no particle is near).
+  // Interpolated quantities at a point (NaN where no particle is near); names
+  // are resolved from the particle registry (core/quantity.hpp).
   virtual std::vector<Real> sample(const Vec3& x, const std::vector<std::string>& quantities) const = 0;
-  // Names accepted by sample().
-  virtual std::vector<std::string> probe_quantities() const = 0;
+  // Whether the run transfers heat (per-body bake statistics go to stats.csv).
+  virtual bool heats() const { return true; }
+  // What this solver will simulate, as lines for `bakesim validate` (its
+  // resolution, materials, bodies, colliders, time-step bounds).
+  virtual std::string summary() const = 0;
   // Solver-specific per-frame numbers for stats.csv (name, value), the same
   // names on every frame.
   virtual std::vector<std::pair<std::string, Real>> frame_quantities() const { return {}; }

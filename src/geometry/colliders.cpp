@@ -81,15 +81,26 @@ WallContact ring_contact(const Vec3& base, const Vec3& axis, Real r_in, Real r_o
 }
 
 WallContact signed_distance(const ColliderGeometry& g, const Vec3& p) {
-  if (const auto* m = std::get_if<MeshCollider>(&g)) {
-    if (!m->sdf) return {std::numeric_limits<Real>::infinity(), Vec3::UnitY()};
-    return m->sdf->sample(p);
-  }
-  WallContact best{std::numeric_limits<Real>::infinity(), Vec3::UnitY()};
-  for_each_wall(g, p, std::numeric_limits<Real>::infinity(), [&](const WallContact& c) {
-    if (c.distance < best.distance) best = c;
-  });
-  return best;
+  const auto nearest_face = [&](const auto&) {
+    WallContact best{std::numeric_limits<Real>::infinity(), Vec3::UnitY()};
+    for_each_wall(g, p, std::numeric_limits<Real>::infinity(), [&](const WallContact& c) {
+      if (c.distance < best.distance) best = c;
+    });
+    return best;
+  };
+  return std::visit(Overloaded{
+                        [&](const PlaneCollider& c) { return nearest_face(c); },
+                        [&](const BoxCollider& c) { return nearest_face(c); },
+                        [&](const ContainerCollider& c) { return nearest_face(c); },
+                        [&](const CylinderCollider& c) { return nearest_face(c); },
+                        [&](const CupCollider& c) { return nearest_face(c); },
+                        [&](const InsideBoxCollider& c) { return nearest_face(c); },
+                        [&](const MeshCollider& m) {
+                          if (!m.sdf) return WallContact{std::numeric_limits<Real>::infinity(), Vec3::UnitY()};
+                          return m.sdf->sample(p);
+                        },
+                    },
+                    g);
 }
 
 namespace {

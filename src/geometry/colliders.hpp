@@ -132,46 +132,66 @@ struct SegmentHit {
 SegmentHit mesh_segment_hits(const MeshCollider& m, const Vec3& from, const Vec3& to, Real radius);
 
 // ---- implementation of the template ---------------------------------------
+
+// An overload set for std::visit: a collider shape without a case does not compile.
+template <class... Ts>
+struct Overloaded : Ts... {
+  using Ts::operator()...;
+};
+template <class... Ts>
+Overloaded(Ts...) -> Overloaded<Ts...>;
+
 template <class Fn>
 void for_each_wall(const ColliderGeometry& g, const Vec3& p, Real range, Fn&& fn) {
-  if (const auto* plane = std::get_if<PlaneCollider>(&g)) {
-    const Real d = plane->normal.dot(p - plane->point);
-    if (d < range) fn(WallContact{d, plane->normal});
-  } else if (const auto* box = std::get_if<BoxCollider>(&g)) {
-    const WallContact c = box_contact(box->box, p);
-    if (c.distance < range) fn(c);
-  } else if (const auto* cont = std::get_if<ContainerCollider>(&g)) {
-    // Cheap reject: outside the container's outer box grown by range.
-    const Real t = cont->wall_thickness + range;
-    if ((p.array() < cont->inner.min.array() - t).any() || (p.array() > cont->inner.max.array() + t).any()) return;
-    for (const Aabb& s : cont->slabs()) {
-      const WallContact c = box_contact(s, p);
-      if (c.distance < range) fn(c);
-    }
-  } else if (const auto* cyl = std::get_if<CylinderCollider>(&g)) {
-    const WallContact c =
-        ring_contact(cyl->center - 0.5 * cyl->height * cyl->axis, cyl->axis, 0, cyl->radius, 0, cyl->height, p);
-    if (c.distance < range) fn(c);
-  } else if (const auto* cup = std::get_if<CupCollider>(&g)) {
-    // The wall and the tube reach down through the floor: parts that only
-    // touched would leave a seam inside the solid (the wall's lower face, one
-    // ε above the floor's top) along which particles slid out through the wall.
-    const Real t = cup->wall_thickness;
-    const WallContact parts[3] = {
-        ring_contact(cup->base, cup->axis, 0, cup->radius + t, -t, 0, p),                      // floor
-        ring_contact(cup->base, cup->axis, cup->radius, cup->radius + t, -t, cup->height, p),  // wall
-        cup->tube_radius > 0 ? ring_contact(cup->base, cup->axis, 0, cup->tube_radius, -t, cup->height, p)
-                             : WallContact{std::numeric_limits<Real>::infinity(), cup->axis}};  // tube
-    for (const WallContact& c : parts)
-      if (c.distance < range) fn(c);
-  } else if (const auto* inside = std::get_if<InsideBoxCollider>(&g)) {
-    const Aabb& b = inside->box;
-    for (int k = 0; k < 3; ++k) {
-      const Real lo = p[k] - b.min[k], hi = b.max[k] - p[k];
-      if (lo < range) fn(WallContact{lo, Vec3::Unit(k)});
-      if (hi < range) fn(WallContact{hi, -Vec3::Unit(k)});
-    }
-  }
+  std::visit(Overloaded{
+                 [&](const PlaneCollider& plane) {
+                   const Real d = plane.normal.dot(p - plane.point);
+                   if (d < range) fn(WallContact{d, plane.normal});
+                 },
+                 [&](const BoxCollider& box) {
+                   const WallContact c = box_contact(box.box, p);
+                   if (c.distance < range) fn(c);
+                 },
+                 [&](const ContainerCollider& cont) {
+                   // Cheap reject: outside the container's outer box grown by range.
+                   const Real t = cont.wall_thickness + range;
+                   if ((p.array() < cont.inner.min.array() - t).any() || (p.array() > cont.inner.max.array() + t).any())
+                     return;
+                   for (const Aabb& s : cont.slabs()) {
+                     const WallContact c = box_contact(s, p);
+                     if (c.distance < range) fn(c);
+                   }
+                 },
+                 [&](const CylinderCollider& cyl) {
+                   const WallContact c = ring_contact(cyl.center - 0.5 * cyl.height * cyl.axis, cyl.axis, 0, cyl.radius,
+                                                      0, cyl.height, p);
+                   if (c.distance < range) fn(c);
+                 },
+                 [&](const CupCollider& cup) {
+                   // The wall and the tube reach down through the floor: parts that only
+                   // touched would leave a seam inside the solid (the wall's lower face, one
+                   // ε above the floor's top) along which particles slid out through the wall.
+                   const Real t = cup.wall_thickness;
+                   const WallContact parts[3] = {
+                       ring_contact(cup.base, cup.axis, 0, cup.radius + t, -t, 0, p),                    // floor
+                       ring_contact(cup.base, cup.axis, cup.radius, cup.radius + t, -t, cup.height, p),  // wall
+                       cup.tube_radius > 0 ? ring_contact(cup.base, cup.axis, 0, cup.tube_radius, -t, cup.height, p)
+                                           : WallContact{std::numeric_limits<Real>::infinity(), cup.axis}};  // tube
+                   for (const WallContact& c : parts)
+                     if (c.distance < range) fn(c);
+                 },
+                 [&](const InsideBoxCollider& inside) {
+                   const Aabb& b = inside.box;
+                   for (int k = 0; k < 3; ++k) {
+                     const Real lo = p[k] - b.min[k], hi = b.max[k] - p[k];
+                     if (lo < range) fn(WallContact{lo, Vec3::Unit(k)});
+                     if (hi < range) fn(WallContact{hi, -Vec3::Unit(k)});
+                   }
+                 },
+                 // Meshes answer segment queries (mesh_segment_hits) and signed distances, not wall faces.
+                 [&](const MeshCollider&) {},
+             },
+             g);
 }
 
 }  // namespace bakesim

@@ -1,6 +1,7 @@
 #pragma once
 // Solid shapes that bodies are made of, and their sampling into particles.
 #include <memory>
+#include <string>
 #include <variant>
 #include <vector>
 
@@ -61,5 +62,17 @@ Real volume_estimate(const Shape& s, Real spacing);
 // The lattice starts half a spacing inside the shape's bounding box, so a box
 // of size n·s gets exactly n particles along each side.
 std::vector<Vec3> sample_lattice(const Shape& s, Real spacing);
+
+// What both solvers know of a body: its name, where the scene defined it,
+// its material (index in name order), shape, initial temperature and velocity.
+// Each solver's Body adds what only it reads.
+struct BodyBase {
+  std::string name;
+  std::string source;  // "FILE: bodies[i]", for messages
+  int material = 0;
+  Shape shape;
+  Real temperature = 20.0;  // °C
+  Vec3 velocity = Vec3::Zero();
+};
 
 }  // namespace bakesim

@@ -39,8 +39,8 @@ std::string mpm_cube_scene_json(long particles, const std::string& model) {
   else if (model == "full")
     // The thermomechanical dough of the bread scenes: heat, water, gas, temperature-dependent Cam-clay.
     material =
-        R"("density": 500, "youngs_modulus": 1e5, "poisson_ratio": 0.3, "specific_heat": 2800, "conductivity": 0.4,
-      "plasticity": {"model": "cam_clay", "initial_porosity": 0.2, "set_temperature": 90,
+        R"("density": 500, "youngs_modulus": 1e5, "poisson_ratio": 0.3, "specific_heat": 2800, "conductivity": 0.4, "set_temperature": 90,
+      "plasticity": {"model": "cam_clay", "initial_porosity": 0.2,
                      "yield_stress": {"curve": "piecewise_linear", "points": [[5, 900], [25, 600], [40, 300], [90, 4000]]},
                      "viscosity": {"curve": "piecewise_linear", "points": [[5, 5000], [25, 2000], [40, 1000]]}},
       "water": {"saturation": 0.4, "diffusivity": 2e-8, "evaporation_rate": 1e-3, "stiffness": 2e3},

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include "core/errors.hpp"
 #include "io/binary.hpp"
 
 #include <bit>
@@ -132,6 +133,24 @@ std::string encode_pvd(const std::vector<PvdEntry>& entries) {
     out += fmt::format("    <DataSet timestep=\"{:.9g}\" group=\"\" part=\"0\" file=\"{}\"/>\n", e.time, e.file);
   out += "  </Collection>\n</VTKFile>\n";
   return out;
+}
+
+}  // namespace bakesim
+
+namespace bakesim {
+
+const std::vector<ParticleFormat>& particle_formats() {
+  static const std::vector<ParticleFormat> formats = {
+      {"ply", ".ply", &encode_ply, false},
+      {"vtu", ".vtu", &encode_vtu, true},
+  };
+  return formats;
+}
+
+const ParticleFormat& particle_format(const std::string& name) {
+  for (const ParticleFormat& f : particle_formats())
+    if (name == f.name) return f;
+  throw InputError("output.particles", "unknown particle format '" + name + "'");
 }
 
 }  // namespace bakesim

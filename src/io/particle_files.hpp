@@ -14,6 +14,18 @@ std::string encode_ply(const ParticleSet& particles);
 // VTK XML UnstructuredGrid (one vertex cell per particle), raw appended data.
 std::string encode_vtu(const ParticleSet& particles);
 
+// The particle frame formats a scene can ask for (output.particles), as a
+// table: a new format is a row here and a name in the schema's enum.
+struct ParticleFormat {
+  const char* name;                           // as in output.particles
+  const char* extension;                      // ".ply"
+  std::string (*encode)(const ParticleSet&);  // the whole file
+  bool paraview_series;                       // listed in particles.pvd
+};
+const std::vector<ParticleFormat>& particle_formats();
+// The row of `name`; throws InputError for an unknown name.
+const ParticleFormat& particle_format(const std::string& name);
+
 struct PvdEntry {
   double time;
   std::string file;  // relative to the .pvd

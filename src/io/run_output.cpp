@@ -10,6 +10,7 @@
 #include <limits>
 
 #include "core/errors.hpp"
+#include "core/quantity.hpp"
 #include "io/files.hpp"
 #include "sim/stats.hpp"
 
@@ -42,24 +43,16 @@ std::string num(double v) {
   return fmt::format("{:.9g}", v);
 }
 
-Real particle_quantity(const ParticleSet& ps, std::size_t i, const std::string& q) {
-  // Scalars by attribute name (temperature, density, pressure; MPM: J, saturation, co2, ...).
-  if (ps.has(q)) return ps.scalar(q)[i];
-  const Vec3& v = ps.vector("velocity")[i];
-  if (q == "speed") return v.norm();
-  if (q == "velocity_x") return v.x();
-  if (q == "velocity_y") return v.y();
-  return v.z();
-}
-
 // Unit vector against gravity (the loaf's "up"); +y without gravity.
 Vec3 up_direction(const Scene& scene) {
-  const Vec3 g = scene.sph.gravity;
+  const Vec3 g = scene.gravity;
   return g.norm() > 0 ? Vec3(-g.normalized()) : Vec3::UnitY();
 }
 }  // namespace
 
-RunOutput::RunOutput(fs::path dir, const Scene& scene, RunLog& log) : dir_(std::move(dir)), scene_(scene), log_(log) {
+RunOutput::RunOutput(fs::path dir, const Scene& scene, const Solver& solver, RunLog& log)
+    : dir_(std::move(dir)), scene_(scene), log_(log) {
+  if (solver.heats()) bake_.emplace(solver.particles(), scene.bodies.size());
   ensure_directory(dir_);
   ensure_directory(dir_ / "frames");
   write_file_atomic(dir_ / "scene.json", scene_.resolved.dump(2) + "\n");
@@ -75,12 +68,16 @@ std::string RunOutput::stats_header() const {
   std::string h =
       "time,steps,dt,particles,kinetic_energy,max_speed,min_x,min_y,min_z,max_x,max_y,max_z,"
       "mean_temperature,min_temperature,max_temperature,air_temperature,wall_time,bake_time";
-  for (const auto& b : scene_.sph.bodies) {
+  for (const auto& b : scene_.bodies) {
     if (b.hold_temperature) continue;
     h += fmt::format(",volume:{0},height:{0}", b.name);
   }
   for (const auto& p : scene_.probes)
     for (const auto& q : p.quantities) h += fmt::format(",probe:{}:{}", p.name, q);
+  if (bake_)
+    for (const auto& b : scene_.bodies)
+      if (!b.hold_temperature)
+        for (const std::string& c : bake_->columns(b.name)) h += "," + c;
   return h;
 }
 
@@ -90,33 +87,38 @@ void RunOutput::on_frame(const FrameInfo& info, const Solver& solver) {
   const bool write_particles =
       info.frame % scene_.output.every_frames == 0 || info.frame == 0 || info.time >= scene_.end_time - 1e-12;
   if (write_particles) {
-    if (scene_.output.ply) write_file_atomic(dir_ / "frames" / (stem + ".ply"), encode_ply(ps));
-    if (scene_.output.vtu) {
-      write_file_atomic(dir_ / "frames" / (stem + ".vtu"), encode_vtu(ps));
-      pvd_.push_back({info.time, "frames/" + stem + ".vtu"});
-      write_file_atomic(dir_ / "particles.pvd", encode_pvd(pvd_));
+    // Every chosen format, in the order of the table (io/particle_files.hpp).
+    for (const ParticleFormat& format : particle_formats()) {
+      const auto& chosen = scene_.output.particle_formats;
+      if (std::find(chosen.begin(), chosen.end(), format.name) == chosen.end()) continue;
+      const std::string file = stem + format.extension;
+      write_file_atomic(dir_ / "frames" / file, format.encode(ps));
+      if (format.paraview_series) {
+        pvd_.push_back({info.time, "frames/" + file});
+        write_file_atomic(dir_ / "particles.pvd", encode_pvd(pvd_));
+      }
     }
     if (mesh_) write_frame_mesh(dir_ / "meshes", info.frame, frame_mesh(ps, geometry_, *mesh_), *mesh_);
   }
   const auto extra = solver.frame_quantities();
   if (!extra_header_written_) {
-    // Solver-specific columns (MPM: core/crust temperature, water, CO2) join the header on the first frame.
+    // Solver-specific columns (MPM: the mixture's water and heat totals) join the header on the first frame.
     std::string names;
     for (const auto& [name, value] : extra) names += "," + name;
     stats_ = stats_header() + names + "\n";
     extra_header_written_ = true;
   }
   const FrameStats s = compute_frame_stats(ps);
-  const Real bake_time = info.time * scene_.bake_time_scale;
+  const Real bake_time = scene_.oven.bake_time(info.time);
   std::string row =
       fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}", num(info.time), info.steps,
                   num(info.last_dt), s.particles, num(s.kinetic_energy), num(s.max_speed), num(s.bounds.min.x()),
                   num(s.bounds.min.y()), num(s.bounds.min.z()), num(s.bounds.max.x()), num(s.bounds.max.y()),
                   num(s.bounds.max.z()), num(s.mean_temperature), num(s.min_temperature), num(s.max_temperature),
-                  num(scene_.air_temperature(bake_time)), num(clock_.seconds()), num(bake_time));
-  const std::vector<BodyStats> bodies = compute_body_stats(ps, scene_.sph.bodies.size(), up_direction(scene_));
+                  num(scene_.oven.air_temperature(bake_time)), num(clock_.seconds()), num(bake_time));
+  const std::vector<BodyStats> bodies = compute_body_stats(ps, scene_.bodies.size(), up_direction(scene_));
   for (std::size_t b = 0; b < bodies.size(); ++b)
-    if (!scene_.sph.bodies[b].hold_temperature) row += "," + num(bodies[b].volume) + "," + num(bodies[b].height());
+    if (!scene_.bodies[b].hold_temperature) row += "," + num(bodies[b].volume) + "," + num(bodies[b].height());
   if (follow_ids_.empty()) {
     // Followed probes pick their particle on the first frame.
     const auto& x = ps.vector("position");
@@ -142,7 +144,13 @@ void RunOutput::on_frame(const FrameInfo& info, const Solver& solver) {
     const auto at = std::find(ids.begin(), ids.end(), follow_ids_[k]);
     for (const auto& q : p.quantities)
       row += "," + num(at == ids.end() ? std::numeric_limits<Real>::quiet_NaN()
-                                       : particle_quantity(ps, std::size_t(at - ids.begin()), q));
+                                       : ParticleQuantity::resolve(ps, q, "probes")(std::size_t(at - ids.begin())));
+  }
+  if (bake_) {
+    const std::vector<BodyBake> bake = bake_->compute(ps);
+    for (std::size_t b = 0; b < bake.size(); ++b)
+      if (!scene_.bodies[b].hold_temperature)
+        for (Real v : bake_->values(bake[b])) row += "," + num(v);
   }
   for (const auto& [name, value] : extra) row += "," + num(value);
   stats_ += row + "\n";

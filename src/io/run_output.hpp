@@ -19,6 +19,7 @@
 #include "io/particle_files.hpp"
 #include "io/run_meshes.hpp"
 #include "io/scene.hpp"
+#include "sim/bake_stats.hpp"
 #include "sim/frame_loop.hpp"
 
 namespace bakesim {
@@ -38,7 +39,9 @@ class RunLog {
 
 class RunOutput final : public FrameObserver {
  public:
-  RunOutput(std::filesystem::path dir, const Scene& scene, RunLog& log);
+  // `solver` in its initial state (before a resume restores it): the
+  // reference of the bake statistics (the water each body started with).
+  RunOutput(std::filesystem::path dir, const Scene& scene, const Solver& solver, RunLog& log);
   void on_frame(const FrameInfo& info, const Solver& solver) override;
   const std::filesystem::path& directory() const { return dir_; }
   std::string stats_header() const;
@@ -60,6 +63,7 @@ class RunOutput final : public FrameObserver {
   std::optional<MeshSettings> mesh_;  // output.mesh.enabled: mesh each written frame
   RunGeometry geometry_;
   std::vector<std::int32_t> follow_ids_;  // per probe: followed particle id, -1 for fixed probes
+  std::optional<BakeStatistics> bake_;    // per-body bake columns, when the solver heats
   Stopwatch clock_;
 };
 

@@ -22,8 +22,7 @@ struct ProbeSpec {
 };
 
 struct OutputSpec {
-  bool ply = true;
-  bool vtu = true;
+  std::vector<std::string> particle_formats = {"ply", "vtu"};  // rows of io/particle_files.hpp's table
   int every_frames = 1;
 };
 
@@ -35,12 +34,17 @@ struct Scene {
   nlohmann::json resolved;  // the document with every default filled in
   Real end_time = 1.0;
   Real fps = 30.0;
-  PiecewiseLinear air_temperature;
-  Real heat_transfer_coefficient = 10.0;
-  Real bake_time_scale = 1.0;  // bake seconds per simulated second
+  Oven oven;  // air, bake clock, browning (both solvers)
+  Vec3 gravity = Vec3(0, -9.81, 0);
+  struct BodyInfo {
+    std::string name;
+    bool hold_temperature = false;  // a heater or cooler: no bake statistics
+  };
+  std::vector<BodyInfo> bodies;
   std::vector<ProbeSpec> probes;
   OutputSpec output;
-  sph::Setup sph;  // bodies and materials are parsed here for both solvers
+  // The chosen solver's setup (the other stays empty).
+  sph::Setup sph;
   mpm::Setup mpm;
 };
 
@@ -52,7 +56,8 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::s
 
 std::unique_ptr<Solver> make_solver(const Scene& scene);
 
-// Human-readable summary of what the scene will simulate (for `validate`).
+// Human-readable summary of what the scene will simulate (for `validate`):
+// the scene's frame, the solver's own summary, and the time step.
 std::string describe(const Scene& scene, Solver& solver);
 
 }  // namespace bakesim

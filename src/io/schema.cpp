@@ -107,10 +107,32 @@ const json& SchemaValidator::resolve(const json& s) const {
   return *cur;
 }
 
-void SchemaValidator::validate(json& doc, const std::string& file) const { check(doc, schema_, "", file); }
+void SchemaValidator::validate(json& doc, const std::string& file) const {
+  // Keys tagged with "solvers" are read only by those solvers: refused in a
+  // scene for the other one, and not filled in from their defaults.
+  std::string solver;
+  if (doc.is_object() && doc.contains("solver") && doc["solver"].is_object() && doc["solver"].contains("type") &&
+      doc["solver"]["type"].is_string())
+    solver = doc["solver"]["type"].get<std::string>();
+  if (solver != "sph" && solver != "mpm") solver.clear();  // the schema reports a bad type itself
+  check(doc, schema_, "", file, solver);
+}
 
-void SchemaValidator::check(json& value, const json& schema_in, const std::string& path,
-                            const std::string& file) const {
+namespace {
+
+std::string solver_title(const std::string& solver) { return solver == "sph" ? "SPH" : "MPM"; }
+
+// Whether the chosen solver reads a property (untagged properties: both).
+bool read_by(const json& property, const std::string& solver) {
+  if (solver.empty() || !property.is_object() || !property.contains("solvers")) return true;
+  const json& list = property["solvers"];
+  return std::find(list.begin(), list.end(), solver) != list.end();
+}
+
+}  // namespace
+
+void SchemaValidator::check(json& value, const json& schema_in, const std::string& path, const std::string& file,
+                            const std::string& solver) const {
   // Keys next to a $ref (unit, description, default) annotate the referenced schema.
   const json& s = resolve(schema_in);
   const std::string where = path.empty() ? file : file + ": " + path;
@@ -140,7 +162,7 @@ void SchemaValidator::check(json& value, const json& schema_in, const std::strin
         throw InputError(file + ": " + join_path(path, key), "expected a string, got " + describe(value[key]));
       const std::string kind = value[key].get<std::string>();
       for (std::size_t i = 0; i < kinds.size(); ++i)
-        if (kinds[i] == kind) return check(value, alts[i], path, file);
+        if (kinds[i] == kind) return check(value, alts[i], path, file, solver);
       const std::string near = closest_match(kind, kinds);
       throw InputError(file + ": " + join_path(path, key),
                        fmt::format("unknown {} \"{}\"{}; allowed: {}", key, kind,
@@ -153,7 +175,7 @@ void SchemaValidator::check(json& value, const json& schema_in, const std::strin
           r.value("type", json("any")).is_string() ? r.value("type", json("any")).get<std::string>() : "value";
       wanted.push_back(r.contains("enum") ? "one of " + list_strings(r["enum"]) : article(t));
       if (r.contains("type") && r["type"].is_string() && type_matches(value, r["type"].get<std::string>()))
-        return check(value, a, path, file);
+        return check(value, a, path, file, solver);
     }
     fail(fmt::format("expected {}, got {}", fmt::join(wanted, " or "), describe(value)));
   }
@@ -218,7 +240,7 @@ void SchemaValidator::check(json& value, const json& schema_in, const std::strin
     if (s.contains("maxItems") && n > s["maxItems"].get<std::size_t>())
       fail(fmt::format("expected at most {} items, got {}", s["maxItems"].get<std::size_t>(), n));
     if (s.contains("items"))
-      for (std::size_t i = 0; i < n; ++i) check(value[i], s["items"], fmt::format("{}[{}]", path, i), file);
+      for (std::size_t i = 0; i < n; ++i) check(value[i], s["items"], fmt::format("{}[{}]", path, i), file, solver);
   }
   if (value.is_object()) {
     static const json kEmpty = json::object();
@@ -229,9 +251,21 @@ void SchemaValidator::check(json& value, const json& schema_in, const std::strin
       const std::string key = it.key();
       const std::string sub = join_path(path, key);
       if (props.contains(key)) {
-        check(it.value(), props[key], sub, file);
+        const json& prop = props[key];
+        if (prop.contains("replaced_by"))
+          throw InputError(file + ": " + sub,
+                           fmt::format("is no longer read: use '{}' instead ({})",
+                                       prop["replaced_by"].get<std::string>(), prop["how"].get<std::string>()));
+        if (!read_by(prop, solver)) {
+          const std::string other = prop["solvers"][0].get<std::string>();
+          throw InputError(file + ": " + sub,
+                           fmt::format("is read only by the {} solver, but this scene's solver.type is \"{}\" (remove "
+                                       "the key, or set solver.type to \"{}\")",
+                                       solver_title(other), solver, other));
+        }
+        check(it.value(), prop, sub, file, solver);
       } else if (s.contains("additionalProperties") && s["additionalProperties"].is_object()) {
-        check(it.value(), s["additionalProperties"], sub, file);
+        check(it.value(), s["additionalProperties"], sub, file, solver);
       } else if (s.contains("properties") ||
                  (s.contains("additionalProperties") && s["additionalProperties"] == false)) {
         const std::string near = closest_match(key, allowed);
@@ -250,6 +284,7 @@ void SchemaValidator::check(json& value, const json& schema_in, const std::strin
     for (auto it = props.begin(); it != props.end(); ++it) {
       if (value.contains(it.key())) continue;
       const json& ps = it.value();
+      if (!read_by(ps, solver)) continue;  // the other solver's key: not part of this scene
       const json* def = ps.contains("default") ? &ps["default"] : nullptr;
       if (!def) {
         const json& r = resolve(ps);
@@ -257,7 +292,7 @@ void SchemaValidator::check(json& value, const json& schema_in, const std::strin
       }
       if (def) {
         value[it.key()] = *def;
-        check(value[it.key()], ps, join_path(path, it.key()), file);
+        check(value[it.key()], ps, join_path(path, it.key()), file, solver);
       }
     }
   }
@@ -328,10 +363,17 @@ struct DocWriter {
     out += "| key | type | unit | range | default | description |\n|---|---|---|---|---|---|\n";
     for (auto it = s["properties"].begin(); it != s["properties"].end(); ++it) {
       const json& p = it.value();
+      if (p.contains("replaced_by")) continue;
       const json& r = v.schema().is_null() ? p : p;
       std::string def = p.contains("default") ? "`" + p["default"].dump() + "`" : "";
       if (std::find(required.begin(), required.end(), it.key()) != required.end()) def = "required";
       std::string desc = p.value("description", std::string());
+      if (p.contains("solvers")) {
+        for (const char* prefix : {"MPM only: ", "SPH only: ", "MPM: ", "SPH: "})
+          if (desc.rfind(prefix, 0) == 0) desc = desc.substr(std::string(prefix).size());
+        desc =
+            "**" + solver_title(p["solvers"][0].get<std::string>()) + " only** (refused by the other solver). " + desc;
+      }
       out += fmt::format("| `{}` | {} | {} | {} | {} | {} |\n", it.key(), type_name(r), p.value("unit", std::string()),
                          range(p), def, desc);
     }

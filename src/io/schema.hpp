@@ -15,6 +15,10 @@ class SchemaValidator {
   explicit SchemaValidator(nlohmann::json schema);
   // Validates `doc` in place (filling defaults). Throws InputError whose
   // location is "FILE: key.path" and whose message says what is allowed.
+  // Properties tagged "solvers": [...] are read only by those solvers: in a
+  // scene whose solver.type is another they are refused with a message that
+  // names the solver that reads them, and their defaults are not filled in.
+  // Properties tagged "replaced_by" are refused with a message naming the new key.
   void validate(nlohmann::json& doc, const std::string& file) const;
   const nlohmann::json& schema() const { return schema_; }
   // The scene reference in Markdown, generated from the schema.
@@ -22,8 +26,8 @@ class SchemaValidator {
 
  private:
   const nlohmann::json& resolve(const nlohmann::json& s) const;
-  void check(nlohmann::json& value, const nlohmann::json& schema, const std::string& path,
-             const std::string& file) const;
+  void check(nlohmann::json& value, const nlohmann::json& schema, const std::string& path, const std::string& file,
+             const std::string& solver) const;
   nlohmann::json schema_;
 };
 

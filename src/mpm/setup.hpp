@@ -30,14 +30,10 @@ struct Material {
   Moisture water;
   Leavening gas;
   std::optional<SettingCurves> setting;  // temperature-dependent τ_y, η (Hencky + plasticity only)
+  IrreversibleSetting set;               // when τ_y, η start to follow the peak temperature (gelatinization)
 };
 
-struct Body {
-  std::string name;
-  int material = 0;
-  Shape shape;
-  Real temperature = 20.0;  // °C (carried; heat arrives with the thermomechanical MPM)
-  Vec3 velocity = Vec3::Zero();
+struct Body : BodyBase {
   Vec3 angular_velocity = Vec3::Zero();  // rad/s about the body's centre of mass
 };
 

@@ -10,6 +10,7 @@
 
 #include "core/errors.hpp"
 #include "core/parallel.hpp"
+#include "core/quantity.hpp"
 
 namespace bakesim::mpm {
 
@@ -23,6 +24,7 @@ MpmSolver::MpmSolver(Setup setup)
       jp_(particles_.add_scalar("plastic_J", "")),
       jp_set_(particles_.add_scalar("plastic_J_at_set", "", false, 1.0)),
       temperature_(particles_.add_scalar("temperature", "degC")),
+      peak_temperature_(particles_.add_scalar("peak_temperature", "degC", false)),
       browning_(particles_.add_scalar("browning", "")),
       f0_(particles_.add_vector("F_col0", "", false)),
       f1_(particles_.add_vector("F_col1", "", false)),
@@ -84,8 +86,6 @@ MpmSolver::MpmSolver(Setup setup)
   }
   build_particles();
   phase_sort();
-  initial_body_water_.assign(setup_.bodies.size(), 0);
-  for (std::size_t i = 0; i < x_.size(); ++i) initial_body_water_[body_[i]] += water_[i];
 }
 
 void MpmSolver::build_particles() {
@@ -120,6 +120,7 @@ void MpmSolver::build_particles() {
       jp_[k] = 1;
       jp_set_[k] = 1;
       temperature_[k] = body.temperature;
+      peak_temperature_[k] = body.temperature;
       heat_capacity_[k] = m_[k] * mat.specific_heat;
       const bool wet = !s.baseline && mat.water.active();
       water_[k] = wet ? mat.water.saturation * mat.water.water_density * vol : 0;
@@ -246,41 +247,10 @@ std::vector<Real> MpmSolver::sample(const Vec3& x, const std::vector<std::string
   }
   std::vector<Real> out;
   for (const std::string& q : quantities) {
-    if (best == x_.size()) {
-      out.push_back(std::numeric_limits<Real>::quiet_NaN());
-      continue;
-    }
-    if (q == "temperature")
-      out.push_back(temperature_[best]);
-    else if (q == "speed")
-      out.push_back(v_[best].norm());
-    else if (q == "velocity_x")
-      out.push_back(v_[best].x());
-    else if (q == "velocity_y")
-      out.push_back(v_[best].y());
-    else if (q == "velocity_z")
-      out.push_back(v_[best].z());
-    else if (q == "J")
-      out.push_back(j_[best]);
-    else if (q == "saturation")
-      out.push_back(saturation_[best]);
-    else if (q == "water_mass")
-      out.push_back(water_[best]);
-    else if (q == "co2")
-      out.push_back(co2_[best]);
-    else if (q == "gas_pressure")
-      out.push_back(gas_pressure_[best]);
-    else if (q == "plastic_J")
-      out.push_back(jp_[best]);
-    else
-      throw InputError("probes", "unknown probe quantity '" + q + "' for the MPM solver");
+    const ParticleQuantity value = ParticleQuantity::resolve(particles_, q, "probes");
+    out.push_back(best == x_.size() ? std::numeric_limits<Real>::quiet_NaN() : value(best));
   }
   return out;
-}
-
-std::vector<std::string> MpmSolver::probe_quantities() const {
-  return {"temperature", "speed",      "velocity_x", "velocity_y", "velocity_z",  "J",
-          "plastic_J",   "saturation", "water_mass", "co2",        "gas_pressure"};
 }
 
 Real MpmSolver::total_water() const {
@@ -295,50 +265,10 @@ Real MpmSolver::total_heat_energy() const {
   return deterministic_sum(x_.size(), [&](std::size_t i) { return heat_capacity_[i] * temperature_[i]; });
 }
 
-// Per body: the coldest temperature (the core when heated from outside), the
-// air-facing-area-weighted surface ("crust") temperature, water mass and the
-// share lost, CO2 produced; and the totals of the budget.
+// The mixture's totals (per-body bake statistics come from sim/bake_stats.hpp).
 std::vector<std::pair<std::string, Real>> MpmSolver::frame_quantities() const {
   std::vector<std::pair<std::string, Real>> out;
   if (!thermal()) return out;
-  struct Acc {
-    Real tmin = std::numeric_limits<Real>::infinity(), area = 0, area_t = 0, water = 0, co2 = 0;
-  };
-  const std::size_t nb = setup_.bodies.size();
-  const std::vector<Acc> acc = deterministic_reduce(
-      x_.size(), std::vector<Acc>(nb),
-      [&](std::size_t b, std::size_t e) {
-        std::vector<Acc> a(nb);
-        for (std::size_t i = b; i < e; ++i) {
-          Acc& s = a[body_[i]];
-          s.tmin = std::min(s.tmin, temperature_[i]);
-          s.area += air_area_[i];
-          s.area_t += air_area_[i] * temperature_[i];
-          s.water += water_[i];
-          s.co2 += co2_[i] * volume0_[i];
-        }
-        return a;
-      },
-      [](std::vector<Acc> a, const std::vector<Acc>& b) {
-        for (std::size_t k = 0; k < a.size(); ++k) {
-          a[k].tmin = std::min(a[k].tmin, b[k].tmin);
-          a[k].area += b[k].area;
-          a[k].area_t += b[k].area_t;
-          a[k].water += b[k].water;
-          a[k].co2 += b[k].co2;
-        }
-        return a;
-      });
-  const Real nan = std::numeric_limits<Real>::quiet_NaN();
-  for (std::size_t b = 0; b < nb; ++b) {
-    const std::string& name = setup_.bodies[b].name;
-    out.emplace_back("core_temperature:" + name, acc[b].tmin);
-    out.emplace_back("crust_temperature:" + name, acc[b].area > 0 ? acc[b].area_t / acc[b].area : nan);
-    out.emplace_back("water:" + name, acc[b].water);
-    out.emplace_back("moisture_loss_percent:" + name,
-                     initial_body_water_[b] > 0 ? 100.0 * (1 - acc[b].water / initial_body_water_[b]) : 0.0);
-    out.emplace_back("co2_mol:" + name, acc[b].co2);
-  }
   out.emplace_back("water_total", total_water());
   out.emplace_back("water_evaporated", budget_.evaporated);
   out.emplace_back("heat_in", budget_.heat_in);

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/particles.hpp"
+#include "core/pcg.hpp"
 #include "core/solver.hpp"
 #include "core/timers.hpp"
 #include "geometry/colliders.hpp"
@@ -43,7 +44,8 @@ class MpmSolver final : public Solver {
   ParticleSet& mutable_particles() { return particles_; }
   const PhaseTimers& timers() const override { return timers_; }
   std::vector<Real> sample(const Vec3& x, const std::vector<std::string>& quantities) const override;
-  std::vector<std::string> probe_quantities() const override;
+  bool heats() const override { return thermal(); }
+  std::string summary() const override;
 
   const Setup& setup() const { return setup_; }
   // Deformation gradient F^E of particle i (columns stored as three vectors).
@@ -94,7 +96,8 @@ class MpmSolver final : public Solver {
   std::vector<Real>& jp_;
   std::vector<Real>& jp_set_;  // J^P when the particle set (gelatinized)
   std::vector<Real>& temperature_;
-  std::vector<Real>& browning_;  // browning index B = ΔE/ΔE∞
+  std::vector<Real>& peak_temperature_;  // highest °C reached (irreversible setting)
+  std::vector<Real>& browning_;          // browning index B = ΔE/ΔE∞
   std::vector<Vec3>& f0_;
   std::vector<Vec3>& f1_;
   std::vector<Vec3>& f2_;
@@ -144,10 +147,10 @@ class MpmSolver final : public Solver {
   MixtureBudget budget_;
   std::vector<Real> implicit_mass_;  // M_i for the implicit heat solve
   struct ImplicitHeat {
-    std::vector<Real> rhs, diag, x, r, z, d, q;
+    std::vector<Real> rhs, diag, x;
+    PcgScratch<Real> pcg;
   } implicit_heat_;
   ColliderTemperatures collider_temperatures_;  // per collider at the current bake time
-  std::vector<Real> initial_body_water_;
   Real time_ = 0;
   std::size_t steps_ = 0;
   std::string dt_bound_ = "max_dt";

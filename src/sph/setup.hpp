@@ -11,6 +11,7 @@
 #include "geometry/shapes.hpp"
 #include "physics/curves.hpp"
 #include "physics/oven.hpp"
+#include "physics/setting.hpp"
 #include "sph/neighbours.hpp"
 #include "sph/surface_detection.hpp"
 
@@ -28,9 +29,9 @@ struct Material {
   // viscoelastic stress) and relaxation time λ(T) in s (Eq 4.2, 4.3).
   TemperatureCurve elasticity = ConstantCurve{0.0};
   TemperatureCurve relaxation_time = ConstantCurve{1.0};
-  // The curves read the highest temperature reached instead of the current
-  // one: baked dough stays set when it cools (irreversible setting).
-  bool properties_follow_peak = false;
+  // Once set, the curves read the highest temperature reached instead of the
+  // current one: baked dough stays set when it cools.
+  IrreversibleSetting set;  // when the curves start to follow the peak temperature (physics/setting.hpp)
 };
 
 enum class BubbleDistribution { uniform, centred, layered, region };
@@ -48,13 +49,7 @@ struct BubbleSpec {
   bool contract_on_cooling = false;    // risen bubbles shrink by the gas law as they cool
 };
 
-struct Body {
-  std::string name;
-  std::string source;  // where it was defined, for messages ("bodies[1]")
-  int material = 0;
-  Shape shape;
-  Real temperature = 20.0;  // °C
-  Vec3 velocity = Vec3::Zero();
+struct Body : BodyBase {
   bool hold_temperature = false;  // a thermostat: conducts, but keeps its temperature
   BubbleSpec bubbles;
 };

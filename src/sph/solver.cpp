@@ -10,6 +10,7 @@
 
 #include "core/errors.hpp"
 #include "core/parallel.hpp"
+#include "core/quantity.hpp"
 #include "physics/bubbles.hpp"
 #include "physics/heat.hpp"
 #include "physics/maxwell.hpp"
@@ -110,7 +111,7 @@ SphSolver::SphSolver(Setup setup)
   adaptive_ = s.adaptive.enabled;
   for (const Material& m : setup_.materials)
     elastic_ |= !is_constant(m.elasticity) || std::get<ConstantCurve>(m.elasticity).value != 0.0;
-  for (const Material& m : setup_.materials) follows_peak_ |= m.properties_follow_peak;
+  for (const Material& m : setup_.materials) follows_peak_ |= m.set.ever();
   for (const Body& b : setup_.bodies)
     bubble_b_.push_back(b.bubbles.pressure_scale ? *b.bubbles.pressure_scale
                                                  : tait_b_.at(std::clamp<int>(b.material, 0, int(tait_b_.size()) - 1)));
@@ -393,35 +394,11 @@ void SphSolver::step(Real dt) {
   check_finite();
 }
 
-// ---- probes ------------------------------------------------------------------
-
-std::vector<std::string> SphSolver::probe_quantities() const {
-  return {"temperature", "density", "pressure", "speed", "velocity_x", "velocity_y", "velocity_z"};
-}
-
-// Shepard-normalised SPH interpolation: A(x) = Σ V_j A_j W / Σ V_j W.
+// Shepard-normalised SPH interpolation: A(x) = Σ V_j A_j W / Σ V_j W, of any
+// quantity the registry has (resolved once, outside the neighbour loop).
 std::vector<Real> SphSolver::sample(const Vec3& x, const std::vector<std::string>& quantities) const {
-  // Resolve names once, outside the neighbour loop.
-  enum class Q { temperature, density, pressure, speed, vx, vy, vz };
-  std::vector<Q> qs;
-  for (const std::string& name : quantities) {
-    if (name == "temperature")
-      qs.push_back(Q::temperature);
-    else if (name == "density")
-      qs.push_back(Q::density);
-    else if (name == "pressure")
-      qs.push_back(Q::pressure);
-    else if (name == "speed")
-      qs.push_back(Q::speed);
-    else if (name == "velocity_x")
-      qs.push_back(Q::vx);
-    else if (name == "velocity_y")
-      qs.push_back(Q::vy);
-    else if (name == "velocity_z")
-      qs.push_back(Q::vz);
-    else
-      throw InputError("probes", "unknown probe quantity '" + name + "'");
-  }
+  std::vector<ParticleQuantity> qs;
+  for (const std::string& name : quantities) qs.push_back(ParticleQuantity::resolve(particles_, name, "probes"));
   std::vector<Real> sum(qs.size(), 0.0);
   Real wsum = 0.0;
   const Real h2 = h_ * h_;
@@ -430,19 +407,7 @@ std::vector<Real> SphSolver::sample(const Vec3& x, const std::vector<std::string
     if (r2 >= h2) return;
     const Real w = m_[j] / rho_[j] * kernel_.w(std::sqrt(r2));
     wsum += w;
-    for (std::size_t q = 0; q < qs.size(); ++q) {
-      Real val = 0;
-      switch (qs[q]) {
-        case Q::temperature: val = temperature_[j]; break;
-        case Q::density: val = rho_[j]; break;
-        case Q::pressure: val = p_[j]; break;
-        case Q::speed: val = v_[j].norm(); break;
-        case Q::vx: val = v_[j].x(); break;
-        case Q::vy: val = v_[j].y(); break;
-        case Q::vz: val = v_[j].z(); break;
-      }
-      sum[q] += w * val;
-    }
+    for (std::size_t q = 0; q < qs.size(); ++q) sum[q] += w * qs[q](j);
   });
   for (Real& s : sum) s = wsum > 1e-12 ? s / wsum : std::numeric_limits<Real>::quiet_NaN();
   return sum;

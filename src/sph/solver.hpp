@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "core/particles.hpp"
+#include "core/pcg.hpp"
 #include "core/solver.hpp"
 #include "geometry/colliders.hpp"
 #include "physics/oven.hpp"
@@ -54,7 +55,7 @@ class SphSolver final : public Solver {
   ParticleSet& particles_for_restore() override { return particles_; }
   const PhaseTimers& timers() const override { return timers_; }
   std::vector<Real> sample(const Vec3& x, const std::vector<std::string>& quantities) const override;
-  std::vector<std::string> probe_quantities() const override;
+  std::string summary() const override;
 
   const Setup& setup() const { return setup_; }
   Real support() const { return h_; }
@@ -185,7 +186,8 @@ class SphSolver final : public Solver {
   std::vector<Mat3> stress_rho2_;        // S/ρ², per particle (pressure phase)
   std::vector<Mat3> artificial_stress_;  // R_i of Monaghan (2000), per particle (forces phase)
   std::vector<double> pair_visc_;        // implicit viscosity weights, layout of lists_
-  std::vector<Vec3> cg_r_, cg_z_, cg_p_, cg_ap_;
+  std::vector<Vec3> viscosity_rhs_;      // M v* of the implicit viscosity solve
+  PcgScratch<Vec3> viscosity_pcg_;       // its conjugate-gradient vectors
   // Per neighbour pair, in the layout of lists_ (computed by the density
   // phase, valid until positions change): W(r) and W'(r)/r.
   std::vector<float> pair_w_, pair_dwr_;

@@ -24,7 +24,7 @@ check '[ $? -eq 0 ] && png "$OUT/sph/render/particles-temperature-00000.png" && 
 check '[ $? -eq 0 ] && png "$OUT/sph/plots/temperatures.png"' "sph: plot writes temperatures.png"
 
 # MPM: a scene with meshing during the run.
-sed -e 's/"type": "sph"/"type": "mpm", "mpm": {"cell_size": 0.02}/' \
+sed -e 's/"type": "sph", "sph": {"spacing": 0.01}/"type": "mpm", "mpm": {"cell_size": 0.02}/' \
     -e 's/"time": {/"output": {"mesh": {"enabled": true}}, "time": {/' "$ROOT/tests/data/good_small.json" > "$OUT/mpm.json"
 "$BAKESIM" run "$OUT/mpm.json" --out "$OUT/mpm" --quiet
 check '[ $? -eq 0 ] && [ -s "$OUT/mpm/meshes/00002.ply" ] && [ -s "$OUT/mpm/meshes/00002.obj" ]' "mpm: output.mesh meshes during the run"

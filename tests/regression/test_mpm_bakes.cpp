@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "io/scene.hpp"
+#include "sim/bake_stats.hpp"
 #include "sim/stats.hpp"
 
 using namespace bakesim;
@@ -52,6 +53,7 @@ Outcome bake(const std::string& name, double cell, bool follow_loaf_crust = fals
   Scene scene = parse_scene(doc.dump(), name + ".json", dir);
   mpm::MpmSolver solver(scene.mpm);
   const auto before = compute_body_stats(solver.particles(), 1, Vec3::UnitY())[0];
+  const BakeStatistics bake_stats(solver.particles(), 1);
   // The loaf (axis along z through y = 5 cm, radius 4 cm): its top within 7 mm
   // of the surface, away from the ends; particles start half a cell apart.
   const Real spacing = 0.5 * cell;
@@ -75,8 +77,7 @@ Outcome bake(const std::string& name, double cell, bool follow_loaf_crust = fals
   }
   out.volume_ratio = after.volume / before.volume;
   out.height = after.height();
-  for (const auto& [key, value] : solver.frame_quantities())
-    if (key.rfind("core_temperature:", 0) == 0) out.core_temperature = value;
+  out.core_temperature = bake_stats.compute(solver.particles())[0].core_temperature;
   return out;
 }
 

@@ -119,7 +119,6 @@ TEST(BubbleLaws, CoolingRisenGasContractsByTheGasLawAndNeverReexpands) {
 
 TEST(SetCrustSoftening, ActsOnlyOnDilationAfterSettingOfADriedParticle) {
   SettingCurves sc{PiecewiseLinear::constant(1000), PiecewiseLinear::constant(10)};
-  sc.set_temperature = 90;
   EXPECT_EQ(sc.softening_factor(1.5, 1.2, 0.5), 1.0);  // k = 0: the paper's law
   sc.set_softening = 60;
   sc.brittle_water_loss = 0.02;
@@ -147,4 +146,21 @@ TEST(Leavening, GenerationStopsWhenTheLeavenerIsSpent) {
   EXPECT_DOUBLE_EQ(gas.generated(0.095, dt, 60, density), 0.1);
   EXPECT_DOUBLE_EQ(gas.generated(0.1, dt, 60, density), 0.1);    // spent: no more
   EXPECT_DOUBLE_EQ(gas.generated(0.12, dt, 60, density), 0.12);  // never taken back
+}
+
+TEST(IrreversibleSetting, FollowsTheCurrentTemperatureUntilSetThenThePeak) {
+  IrreversibleSetting never;  // null: reversible
+  EXPECT_FALSE(never.ever());
+  EXPECT_EQ(never.property_temperature(30.0, 180.0), 30.0);
+  IrreversibleSetting at85{85.0};
+  EXPECT_TRUE(at85.ever());
+  EXPECT_EQ(at85.property_temperature(60.0, 70.0), 60.0);  // warmed to 70, cooled to 60: not set yet
+  EXPECT_TRUE(at85.is_set(85.0));
+  EXPECT_EQ(at85.property_temperature(40.0, 120.0), 120.0);  // set: the peak, however far it cools
+  IrreversibleSetting always{-273.15};                       // the thesis's irreversible curves
+  EXPECT_EQ(always.property_temperature(20.0, 20.0), 20.0);
+  EXPECT_EQ(always.property_temperature(50.0, 90.0), 90.0);
+  // With a curve flat beyond θ_set (the paper's Fig 8) a set particle reads the values at θ_set.
+  const PiecewiseLinear yield({{20.0, 300.0}, {85.0, 3000.0}});
+  EXPECT_EQ(yield(at85.property_temperature(40.0, 150.0)), yield(85.0));
 }

@@ -120,6 +120,9 @@ TEST(Scene, ReferencesAreChecked) {
   expect_error(e, {"bodies[1].name", "duplicate name 'block'"});
   json f = base_scene();
   f["solver"]["type"] = "mpm";
+  // The SPH section left behind is named first; without it the missing MPM section is.
+  expect_error(f, {"solver.sph", "read only by the SPH solver"});
+  f["solver"].erase("sph");
   expect_error(f, {"solver", "missing section 'mpm'", "cell_size"});
   json g = base_scene();
   g["solver"].erase("sph");
@@ -212,8 +215,8 @@ TEST(Scene, ScheduleMustIncrease) {
   expect_error(d, {"environment.air_temperature[2]", "increase strictly"});
   d["environment"] = {{"air_temperature", {{0, 20}, {60, 180}}}};
   const Scene s = parse_scene(d.dump(), "scene.json", ".");
-  EXPECT_DOUBLE_EQ(s.air_temperature(30), 100.0);
-  EXPECT_DOUBLE_EQ(s.air_temperature(600), 180.0);
+  EXPECT_DOUBLE_EQ(s.oven.air_temperature(30), 100.0);
+  EXPECT_DOUBLE_EQ(s.oven.air_temperature(600), 180.0);
 }
 
 TEST(Scene, MinDtMustBeBelowMaxDt) {
@@ -231,8 +234,8 @@ json mpm_scene() {
     "solver": {"type": "mpm", "mpm": {"cell_size": 0.005}},
     "time": {"end": 0.1},
     "domain": {"min": [-0.1, -0.02, -0.1], "max": [0.1, 0.1, 0.1]},
-    "materials": {"dough": {"density": 500, "plasticity": {"model": "cam_clay", "initial_porosity": 0.2,
-                  "yield_stress": {"curve": "piecewise_linear", "points": [[20, 300], [90, 3000]]}, "set_temperature": 90},
+    "materials": {"dough": {"density": 500, "set_temperature": 90, "plasticity": {"model": "cam_clay", "initial_porosity": 0.2,
+                  "yield_stress": {"curve": "piecewise_linear", "points": [[20, 300], [90, 3000]]}},
                   "water": {"saturation": 0.4}}},
     "bodies": [{"name": "muffin", "material": "dough",
                 "shape": {"type": "cylinder", "center": [0, 0.02, 0], "axis": [0, 1, 0], "radius": 0.02, "height": 0.02}}],
@@ -257,9 +260,114 @@ TEST(Scene, SetSofteningNeedsCamClayASetTemperatureAndWater) {
   dry["materials"]["dough"]["water"]["saturation"] = 0;
   expect_error(dry, {"materials.dough.plasticity.set_softening", "water.saturation > 0"});
   json unset = d;
-  unset["materials"]["dough"]["plasticity"].erase("set_temperature");
+  unset["materials"]["dough"].erase("set_temperature");
   expect_error(unset, {"materials.dough.plasticity.set_softening", "set_temperature"});
   json ramp = d;
   ramp["materials"]["dough"]["plasticity"]["brittle_water_loss"] = 0;
   expect_error(ramp, {"materials.dough.plasticity.brittle_water_loss"});
+}
+
+// Keys only the other solver reads are refused with the key path and the
+// solver that reads them, in both directions; their defaults do not appear in
+// the resolved scene.
+TEST(Scene, KeysOfTheOtherSolverAreRefusedInBothDirections) {
+  json sph = base_scene();
+  const std::vector<std::pair<std::string, json>> mpm_only_material = {
+      {"youngs_modulus", 1e5},        {"poisson_ratio", 0.3},      {"elastic_model", "hencky"},
+      {"plasticity", json::object()}, {"thermal_expansion", 1e-4}, {"water", json::object()},
+      {"leavening", json::object()}};
+  for (const auto& [key, value] : mpm_only_material) {
+    json d = sph;
+    d["materials"]["water"][key] = value;
+    expect_error(d, {"materials.water." + key, "read only by the MPM solver", "solver.type is \"sph\""});
+  }
+  json spin = sph;
+  spin["bodies"][0]["angular_velocity"] = {0, 1, 0};
+  expect_error(spin, {"bodies[0].angular_velocity", "MPM solver"});
+  json section = sph;
+  section["solver"]["mpm"] = {{"cell_size", 0.01}};
+  expect_error(section, {"solver.mpm", "MPM solver"});
+
+  json mpm = mpm_scene();
+  const std::vector<std::pair<std::string, json>> sph_only_material = {
+      {"viscosity", 1.0},   {"surface_tension", 0.07}, {"xsph", 0.1},
+      {"elasticity", 10.0}, {"relaxation_time", 2.0},  {"preset", "dough"}};
+  for (const auto& [key, value] : sph_only_material) {
+    json d = mpm;
+    d["materials"]["dough"][key] = value;
+    expect_error(d, {"materials.dough." + key, "read only by the SPH solver", "solver.type is \"mpm\""});
+  }
+  for (const char* key : {"bubbles", "hold_temperature"}) {
+    json d = mpm;
+    d["bodies"][0][key] = std::string(key) == "bubbles" ? json{{"fraction", 0.2}} : json(true);
+    expect_error(d, {std::string("bodies[0].") + key, "SPH solver"});
+  }
+  json sph_section = mpm;
+  sph_section["solver"]["sph"] = {{"spacing", 0.01}};
+  expect_error(sph_section, {"solver.sph", "SPH solver"});
+
+  // Shared keys are read by both; the other solver's defaults are not filled in.
+  const json r_sph = parse_scene(sph.dump(), "scene.json", ".").resolved;
+  EXPECT_FALSE(r_sph["materials"]["water"].contains("youngs_modulus"));
+  EXPECT_FALSE(r_sph["bodies"][0].contains("angular_velocity"));
+  EXPECT_TRUE(r_sph["materials"]["water"].contains("viscosity"));
+  const json r_mpm = parse_scene(mpm.dump(), "scene.json", ".").resolved;
+  EXPECT_FALSE(r_mpm["materials"]["dough"].contains("viscosity"));
+  EXPECT_FALSE(r_mpm["bodies"][0].contains("bubbles"));
+  EXPECT_TRUE(r_mpm["materials"]["dough"].contains("plasticity"));
+  EXPECT_TRUE(r_mpm["colliders"][0].contains("damping"));  // the contact law is shared
+}
+
+TEST(Scene, ReplacedSettingKeysNameTheNewKey) {
+  json d = base_scene();
+  d["materials"]["water"]["property_temperature"] = "peak";
+  expect_error(d, {"materials.water.property_temperature", "use 'set_temperature'", "-273.15"});
+  json m = mpm_scene();
+  m["materials"]["dough"]["plasticity"]["set_temperature"] = 90;
+  expect_error(m, {"materials.dough.plasticity.set_temperature", "use 'set_temperature'", "moved up one level"});
+  // One key for both solvers.
+  json s = base_scene();
+  s["materials"]["water"]["set_temperature"] = 60;
+  EXPECT_DOUBLE_EQ(parse_scene(s.dump(), "scene.json", ".").sph.materials[0].set.temperature, 60.0);
+  EXPECT_DOUBLE_EQ(parse_scene(mpm_scene().dump(), "scene.json", ".").mpm.materials[0].set.temperature, 90.0);
+}
+
+TEST(Scene, ContactLawAndMotionAreSharedAndFrictionModelsResolvePerSolver) {
+  json d = base_scene();
+  d["colliders"] =
+      json::parse(R"([{"name": "paddle", "shape": {"type": "box", "min": [0.1, 0.0, 0.0], "max": [0.12, 0.05, 0.2]},
+    "contact": "sticky", "friction": 0.3, "motion": {"keyframes": [{"time": 0}, {"time": 1, "translation": [0.05, 0, 0]}]}}])");
+  const Scene s = parse_scene(d.dump(), "scene.json", ".");
+  ASSERT_EQ(s.sph.colliders.size(), 1u);
+  EXPECT_EQ(s.sph.colliders[0].contact.mode, ContactMode::sticky);
+  EXPECT_EQ(s.sph.colliders[0].contact.friction_model, FrictionModel::velocity_share);
+  EXPECT_TRUE(s.sph.colliders[0].motion.moves());
+  d["colliders"][0]["friction_model"] = "coulomb";
+  EXPECT_EQ(parse_scene(d.dump(), "scene.json", ".").sph.colliders[0].contact.friction_model, FrictionModel::coulomb);
+  EXPECT_EQ(parse_scene(mpm_scene().dump(), "scene.json", ".").mpm.colliders[0].contact.friction_model,
+            FrictionModel::coulomb);
+  // SPH moves analytic colliders, not meshes.
+  json mesh = base_scene();
+  mesh["colliders"] = json::array(
+      {{{"name", "m"},
+        {"shape", {{"type", "mesh"}, {"file", std::string(BAKESIM_SOURCE_DIR) + "/scenes/meshes/funnel.obj"}}},
+        {"motion", {{"keyframes", {{{"time", 0}}, {{"time", 1}}}}}}}});
+  expect_error(mesh, {"colliders[0].motion", "moving mesh colliders", "MPM solver only"});
+}
+
+TEST(Scene, ProbeQuantitiesAreTheSolversAttributes) {
+  json d = base_scene();
+  d["probes"] =
+      json::parse(R"([{"name": "core", "position": [0.05, 0.05, 0.05], "quantities": ["temperature", "saturation"]}])");
+  const Scene s = parse_scene(d.dump(), "scene.json", ".");
+  try {
+    make_solver(s);
+    FAIL() << "an SPH probe of saturation was accepted";
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("probes[0].quantities[1]"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("unknown quantity 'saturation'"), std::string::npos) << msg;
+  }
+  d["probes"][0]["quantities"] = {"temperature", "density", "speed"};
+  EXPECT_NO_THROW(make_solver(parse_scene(d.dump(), "scene.json", ".")));
 }

@@ -9,7 +9,13 @@
 #include <mutex>
 #include <set>
 
+#include <Eigen/Dense>
+
+#include "core/errors.hpp"
 #include "core/health.hpp"
+#include "core/pcg.hpp"
+#include "core/quantity.hpp"
+#include "sim/bake_stats.hpp"
 #include "geometry/contact.hpp"
 #include "mpm/grid.hpp"
 #include "physics/heat.hpp"
@@ -226,4 +232,96 @@ TEST(MpmGrid, BlocksOfOneColourNeverShareANodeAndTheOrderIsAPermutation) {
             }
       });
   for (int v : visits) EXPECT_EQ(v, 1);
+}
+
+TEST(ParticleQuantity, ResolvesAttributesAndVelocityPartsByName) {
+  ParticleSet ps;
+  auto& t = ps.add_scalar("temperature", "degC");
+  auto& v = ps.add_vector("velocity", "m/s");
+  ps.resize(2);
+  t = {20.0, 95.0};
+  v = {Vec3(3, 4, 0), Vec3(0, -1, 2)};
+  EXPECT_EQ(ParticleQuantity::resolve(ps, "temperature", "probes")(1), 95.0);
+  EXPECT_EQ(ParticleQuantity::resolve(ps, "speed", "probes")(0), 5.0);
+  EXPECT_EQ(ParticleQuantity::resolve(ps, "velocity_z", "probes")(1), 2.0);
+  try {
+    ParticleQuantity::resolve(ps, "gas_pressure", "scene.json: probes[0].quantities[1]");
+    FAIL();
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("probes[0].quantities[1]"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("temperature, speed, velocity_x"), std::string::npos) << msg;
+  }
+}
+
+TEST(BakeStatistics, CoreIsTheColdestCrustIsAreaWeightedAndMoistureIsMeasuredFromTheStart) {
+  ParticleSet ps;
+  auto& t = ps.add_scalar("temperature", "degC");
+  auto& area = ps.add_scalar("air_area", "m^2");
+  auto& water = ps.add_scalar("water_mass", "kg");
+  auto& body = ps.add_int("body_id");
+  ps.resize(5);
+  body = {0, 0, 0, 1, 1};
+  t = {30, 80, 120, 50, 60};
+  area = {0, 1e-4, 3e-4, 2e-4, 0};
+  water = {1e-3, 1e-3, 2e-3, 4e-3, 0};
+  const BakeStatistics stats(ps, 2);
+  EXPECT_TRUE(stats.has_water());
+  EXPECT_FALSE(stats.has_co2());
+  EXPECT_EQ(stats.columns("loaf"), (std::vector<std::string>{"core_temperature:loaf", "crust_temperature:loaf",
+                                                             "water:loaf", "moisture_loss_percent:loaf"}));
+  water[2] = 0.5e-3;  // the crust dries: 1.5 g of the loaf's 4 g gone
+  const std::vector<BodyBake> b = stats.compute(ps);
+  EXPECT_EQ(b[0].core_temperature, 30.0);
+  EXPECT_NEAR(b[0].crust_temperature, (1e-4 * 80 + 3e-4 * 120) / 4e-4, 1e-12);
+  EXPECT_NEAR(b[0].moisture_loss_percent, 37.5, 1e-12);
+  EXPECT_EQ(b[1].core_temperature, 50.0);
+  EXPECT_NEAR(b[1].crust_temperature, 50.0, 1e-12);
+  EXPECT_NEAR(b[1].moisture_loss_percent, 0.0, 1e-12);
+}
+
+TEST(Pcg, SolvesScalarAndThreeComponentSystemsAndReportsWhatFailed) {
+  // A = tridiag(−1, 2 + c, −1), SPD; compare with Eigen's dense solve.
+  const std::size_t n = 40;
+  const Real c = 0.1;
+  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(n, n);
+  for (std::size_t i = 0; i < n; ++i) {
+    a(i, i) = 2 + c;
+    if (i > 0) a(i, i - 1) = a(i - 1, i) = -1;
+  }
+  std::vector<Real> diag(n, 2 + c);
+  auto apply = [&](const auto& in, auto& out) {
+    for (std::size_t i = 0; i < n; ++i) {
+      out[i] = (2 + c) * in[i];
+      if (i > 0) out[i] -= in[i - 1];
+      if (i + 1 < n) out[i] -= in[i + 1];
+    }
+  };
+  Eigen::VectorXd b1(n);
+  std::vector<Real> b(n), x(n, 0.0);
+  std::vector<Vec3> b3(n), x3(n, Vec3::Zero());
+  for (std::size_t i = 0; i < n; ++i) {
+    b1[i] = b[i] = std::sin(0.3 * i) + 1;
+    b3[i] = Vec3(b[i], -2 * b[i], 0.0);  // the third system is already solved by x = 0
+  }
+  const Eigen::VectorXd exact = a.ldlt().solve(b1);
+  PcgScratch<Real> w;
+  const auto all = [](std::size_t) { return true; };
+  const PcgResult<Real> r = solve_pcg<Real>(n, apply, all, diag, b, x, 1e-24, 200, w);
+  EXPECT_TRUE(r.converged());
+  for (std::size_t i = 0; i < n; ++i) EXPECT_NEAR(x[i], exact[i], 1e-9);
+  PcgScratch<Vec3> w3;
+  const PcgResult<Vec3> r3 = solve_pcg<Vec3>(n, apply, all, diag, b3, x3, Vec3::Constant(1e-24), 200, w3);
+  EXPECT_TRUE(r3.converged());
+  for (std::size_t i = 0; i < n; ++i) {
+    EXPECT_NEAR(x3[i].x(), exact[i], 1e-9);
+    EXPECT_NEAR(x3[i].y(), -2 * exact[i], 1e-9);
+    EXPECT_EQ(x3[i].z(), 0.0);
+  }
+  // Two iterations cannot reach 1e-12: not acceptable, and the error names the setting.
+  std::vector<Real> x2(n, 0.0);
+  const PcgResult<Real> short_run = solve_pcg<Real>(n, apply, all, diag, b, x2, 1e-24, 2, w);
+  EXPECT_EQ(short_run.iterations, 2);
+  EXPECT_FALSE(short_run.acceptable());
+  EXPECT_THROW(require_acceptable(short_run, 1.0, "test solve", "max_iterations"), SimulationError);
 }

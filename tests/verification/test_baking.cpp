@@ -163,22 +163,22 @@ TEST(BakingPhysics, SetDoughHoldsItsShapeUnderGravity) {
 
 TEST(BakingPhysics, PeakPropertyTemperatureKeepsBakedDoughSetWhenItCools) {
   // The oven heats the ball to about 180 °C and is then switched off
-  // (air 20 °C): with property_temperature "peak" the viscosity stays at the
-  // curve's value for the hottest temperature each particle reached; with
-  // "current" it falls back with the temperature.
+  // (air 20 °C): set from the start (set_temperature −273.15) the viscosity
+  // stays at the curve's value for the hottest temperature each particle
+  // reached; never set (null) it falls back with the temperature.
   const TemperatureCurve curve = PiecewiseLinear({{20, 0.001}, {100, 0.05}});
-  auto run = [&](const char* mode) {
+  auto run = [&](const json& set_temperature) {
     json scene = hot_air_scene(1000.0);
     scene["environment"]["air_temperature"] = json::array({{0, 200}, {150, 200}, {151, 20}});
     scene["environment"]["heat_transfer_coefficient"] = 200.0;
     scene["materials"]["metal"]["conductivity"] = 5.0;  // Biot 0.4; a bake-clock step not bound by conduction
     scene["materials"]["metal"]["viscosity"] = {{"curve", "piecewise_linear"}, {"points", {{20, 0.001}, {100, 0.05}}}};
-    scene["materials"]["metal"]["property_temperature"] = mode;
+    scene["materials"]["metal"]["set_temperature"] = set_temperature;
     auto solver = test_support::make_sph(scene);
     test_support::advance_to(*solver, 0.3);  // 300 s of bake
     return solver;
   };
-  auto peak = run("peak"), current = run("current");
+  auto peak = run(-273.15), current = run(nullptr);
   for (auto* s : {peak.get(), current.get()}) {
     const auto& t = s->particles().scalar("temperature");
     EXPECT_LT(*std::max_element(t.begin(), t.end()), 60.0);  // it has cooled well below the set range

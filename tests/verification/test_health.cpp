@@ -19,14 +19,16 @@ json block(const std::string& solver) {
     s["mpm"] = {{"cell_size", 0.01}};
   else
     s["sph"] = {{"spacing", 0.01}};
-  return {{"solver", s},
-          {"time", {{"end", 1.0}}},
-          {"domain", {{"min", {0, 0, 0}}, {"max", {0.2, 0.2, 0.2}}}},
-          {"materials", {{"dough", {{"density", 1000.0}, {"youngs_modulus", 1e4}}}}},
-          {"bodies",
-           json::array({{{"name", "block"},
-                         {"material", "dough"},
-                         {"shape", {{"type", "box"}, {"min", {0.05, 0.02, 0.05}}, {"max", {0.1, 0.07, 0.1}}}}}})}};
+  return {
+      {"solver", s},
+      {"time", {{"end", 1.0}}},
+      {"domain", {{"min", {0, 0, 0}}, {"max", {0.2, 0.2, 0.2}}}},
+      {"materials",
+       {{"dough", solver == "mpm" ? json{{"density", 1000.0}, {"youngs_modulus", 1e4}} : json{{"density", 1000.0}}}}},
+      {"bodies",
+       json::array({{{"name", "block"},
+                     {"material", "dough"},
+                     {"shape", {{"type", "box"}, {"min", {0.05, 0.02, 0.05}}, {"max", {0.1, 0.07, 0.1}}}}}})}};
 }
 
 void expect_caught_at_planted_step(Solver& solver, ParticleSet& particles, const std::string& step_word) {

@@ -41,9 +41,10 @@ void MpmSolver::phase_plasticity(Real dt) {
                       if constexpr (!std::is_same_v<P, NoPlasticity>) {
                         P law = plastic_law;
                         if (heat && mat.setting) {
-                          if (!gelatinized_[i] && theta >= mat.setting->set_temperature)
+                          peak_temperature_[i] = std::max(peak_temperature_[i], theta);
+                          if (!gelatinized_[i] && mat.set.is_set(peak_temperature_[i]))
                             gelatinized_[i] = 1, jp_set_[i] = jp_[i];
-                          const Real te = mat.setting->effective_temperature(theta, gelatinized_[i] != 0);
+                          const Real te = mat.set.property_temperature(theta, peak_temperature_[i]);
                           law.yield_stress = mat.setting->yield_stress(te);
                           law.viscosity = mat.setting->viscosity(te);
                         }

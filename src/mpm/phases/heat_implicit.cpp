@@ -2,9 +2,12 @@
 // the grid nodes.
 #include "mpm/solver.hpp"
 
+#include <fmt/format.h>
+
 #include <cmath>
 
 #include "core/parallel.hpp"
+#include "core/pcg.hpp"
 
 namespace bakesim::mpm {
 
@@ -72,8 +75,8 @@ void MpmSolver::phase_heat_implicit(Real dt) {
   };
   // Node vectors of the solve, kept between steps (no per-step allocation once sized).
   ImplicitHeat& h = implicit_heat_;
-  for (std::vector<Real>* v : {&h.rhs, &h.diag, &h.x, &h.r, &h.z, &h.d, &h.q}) v->assign(nodes, 0);
-  std::vector<Real>&rhs = h.rhs, &diag = h.diag, &x = h.x, &r = h.r, &z = h.z, &d = h.d, &q = h.q;
+  for (std::vector<Real>* v : {&h.rhs, &h.diag, &h.x}) v->assign(nodes, 0);
+  std::vector<Real>&rhs = h.rhs, &diag = h.diag, &x = h.x;
   // Right-hand side and the Jacobi diagonal.
   scatter(rhs, [&](std::uint32_t p, const Axis&, const Axis&, const Axis&, Real& a, Vec3& gv, Real& da, Real& dg) {
     a = exchange_t_[p];
@@ -99,39 +102,15 @@ void MpmSolver::phase_heat_implicit(Real dt) {
         }
       },
       1 << 14);
-  auto dot = [&](const std::vector<Real>& a, const std::vector<Real>& b) {
-    return deterministic_sum(nodes, [&](std::size_t k) { return a[k] * b[k]; });
-  };
-  apply(x, q);
-  parallel_for(
-      nodes,
-      [&](std::size_t k) {
-        r[k] = mass[k] > 0 ? rhs[k] - q[k] : 0;
-        z[k] = r[k] / diag[k];
-        d[k] = z[k];
-      },
-      1 << 14);
-  Real rz = dot(r, z);
-  const Real rhs_norm = std::sqrt(dot(rhs, rhs));
-  for (int it = 0;
-       it < setup_.settings.heat_max_iterations && std::sqrt(dot(r, r)) > setup_.settings.heat_tolerance * rhs_norm;
-       ++it) {
-    apply(d, q);
-    const Real alpha = rz / dot(d, q);
-    parallel_for(
-        nodes,
-        [&](std::size_t k) {
-          x[k] += alpha * d[k];
-          r[k] -= alpha * q[k];
-          z[k] = r[k] / diag[k];
-        },
-        1 << 14);
-    const Real rz_new = dot(r, z);
-    const Real beta = rz_new / rz;
-    rz = rz_new;
-    parallel_for(
-        nodes, [&](std::size_t k) { d[k] = z[k] + beta * d[k]; }, 1 << 14);
-  }
+  // Conjugate gradients (core/pcg.hpp, shared with the SPH implicit viscosity)
+  // over the nodes with heat capacity; the rest keep a unit diagonal.
+  const Real rhs2 = pcg_sum<Real>(nodes, [&](std::size_t k) { return rhs[k] * rhs[k]; });
+  const Real stop = setup_.settings.heat_tolerance * std::sqrt(rhs2);
+  const PcgResult<Real> result = solve_pcg<Real>(
+      nodes, apply, [&](std::size_t k) { return mass[k] > 0; }, diag, rhs, x, stop * stop,
+      setup_.settings.heat_max_iterations, implicit_heat_.pcg);
+  require_acceptable(result, rhs2, fmt::format("mpm step {} (t = {:.6g} s): implicit heat", steps_ + 1, time_),
+                     "solver.mpm.heat_max_iterations");
   const Real energy = deterministic_reduce(
       nodes, Real(0),
       [&](std::size_t b, std::size_t e) {

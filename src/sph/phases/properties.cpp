@@ -6,12 +6,13 @@
 #include <limits>
 
 #include "core/parallel.hpp"
+#include "physics/constants.hpp"
 
 namespace bakesim::sph {
 
 // Eq 4.1–4.4: viscosity, elasticity, relaxation time and XSPH tuner follow
-// each particle's temperature (or the peak it reached, for irreversible
-// setting). Each curve is visited once per material; the particle loop sees
+// each particle's temperature, or the peak it reached once it has set
+// (irreversible setting, physics/setting.hpp). Each curve is visited once per material; the particle loop sees
 // a plain callable. Then the rise state of Eq 3.48–3.52.
 void SphSolver::phase_properties() {
   ScopedPhase t(timers_, t_properties_);
@@ -21,13 +22,19 @@ void SphSolver::phase_properties() {
         n, [&](std::size_t i) { peak_temperature_[i] = std::max(peak_temperature_[i], temperature_[i]); }, 4096);
   auto follow = [&](int id, const TemperatureCurve& c, std::vector<Real>& out, Real lo, Real hi) {
     if (is_constant(c)) return;
-    const std::vector<Real>& t = setup_.materials[id].properties_follow_peak ? peak_temperature_ : temperature_;
+    const IrreversibleSetting& set = setup_.materials[id].set;
+    // Set from the start (or never): the whole material reads one temperature.
+    const bool always = set.is_set(-kZeroCelsius), never = !set.ever();
+    const std::vector<Real>& t = always ? peak_temperature_ : temperature_;
     std::visit(
         [&](const auto& curve) {
           parallel_for(
               n,
               [&](std::size_t i) {
-                if (material_[i] == id) out[i] = std::clamp(curve(t[i]), lo, hi);
+                if (material_[i] != id) return;
+                const Real at =
+                    always || never ? t[i] : set.property_temperature(temperature_[i], peak_temperature_[i]);
+                out[i] = std::clamp(curve(at), lo, hi);
               },
               4096);
         },

@@ -1,0 +1,135 @@
+// The MPM solver's setup from a validated scene (docs/scene-reference.md).
+#include <fmt/format.h>
+
+#include "io/scene_parts.hpp"
+
+namespace bakesim::scene_parts {
+
+namespace {
+
+mpm::Material build_material(const Ctx& c, const std::string& name, const json& m) {
+  const std::string mpath = "materials." + name;
+  mpm::Material mat;
+  mat.name = name;
+  mat.density = m["density"].get<double>();
+  mat.lame = mpm::Lame::from_young(m["youngs_modulus"].get<double>(), m["poisson_ratio"].get<double>());
+  if (m["elastic_model"].get<std::string>() == "fixed_corotated")
+    mat.elastic = mpm::FixedCorotated{mat.lame};
+  else
+    mat.elastic = mpm::Hencky{mat.lame};
+  const json& pj = m["plasticity"];
+  const std::string model = pj["model"].get<std::string>();
+  if (model != "none" && std::holds_alternative<mpm::FixedCorotated>(mat.elastic))
+    c.fail(mpath + ".plasticity", model + " plasticity needs elastic_model \"hencky\"");
+  // Temperature-dependent τ_y(θ), η(θ) (spec 3.2, paper Fig 8): piecewise-linear curves.
+  auto plastic_curve = [&](const std::string& key) {
+    const TemperatureCurve curve = build_curve(c, mpath + ".plasticity." + key, pj[key]);
+    if (const auto* k = std::get_if<ConstantCurve>(&curve)) return PiecewiseLinear::constant(k->value);
+    if (const auto* pl = std::get_if<PiecewiseLinear>(&curve)) return *pl;
+    c.fail(mpath + ".plasticity." + key, "MPM plasticity takes a number or a piecewise_linear curve");
+  };
+  const PiecewiseLinear yield = plastic_curve("yield_stress"), viscosity = plastic_curve("viscosity");
+  mat.set = build_setting(m);
+  const bool curved = !pj["yield_stress"].is_number() || !pj["viscosity"].is_number() || mat.set.ever();
+  if (model != "none" && curved) {
+    SettingCurves sc{yield, viscosity};
+    sc.set_softening = pj["set_softening"].get<double>();
+    sc.brittle_water_loss = pj["brittle_water_loss"].get<double>();
+    if (sc.set_softening > 0 &&
+        (model != "cam_clay" || !mat.set.ever() || !(m["water"]["saturation"].get<double>() > 0)))
+      c.fail(mpath + ".plasticity.set_softening",
+             "softens the set material as it dries: needs model \"cam_clay\", the material's set_temperature and "
+             "water.saturation > 0");
+    mat.setting = sc;
+  }
+  const Real yield0 = yield(20.0), viscosity0 = viscosity(20.0);
+  mat.initial_porosity = pj["initial_porosity"].get<double>();
+  if (model == "von_mises") mat.plastic = mpm::VonMises{yield0, viscosity0};
+  if (model == "cam_clay")
+    mat.plastic = mpm::CamClay{yield0, viscosity0, pj["cohesion_slope"].get<double>(), mat.initial_porosity};
+  mat.specific_heat = m["specific_heat"].get<double>();
+  mat.conductivity = m["conductivity"].get<double>();
+  mat.thermal_expansion = m["thermal_expansion"].get<double>();
+  const json& wj = m["water"];
+  mat.water.saturation = wj["saturation"].get<double>();
+  mat.water.diffusivity = wj["diffusivity"].get<double>();
+  mat.water.evaporation_rate = wj["evaporation_rate"].get<double>();
+  mat.water.stiffness = wj["stiffness"].get<double>();
+  const json& lj = m["leavening"];
+  mat.gas.rate = lj["rate"].get<double>();
+  mat.gas.peak_temperature = lj["peak_temperature"].get<double>();
+  if (!lj["amount"].is_null()) mat.gas.amount = lj["amount"].get<double>();
+  mat.gas.width = lj["width"].get<double>();
+  if (mat.gas.active() && model != "cam_clay" && mat.initial_porosity <= 0)
+    c.fail(mpath + ".leavening",
+           "the gas needs pores: give plasticity.initial_porosity > 0 (and cam_clay so the dough can expand)");
+  return mat;
+}
+
+Collider build_grid_collider(const Ctx& c, const json& cj, std::size_t i, Real cell) {
+  const std::string path = fmt::format("colliders[{}]", i);
+  Collider col = build_collider(c, cj, i, cell, FrictionModel::coulomb);
+  // A cup or container wall under two cells thick has grid nodes inside it
+  // that are nearer its far face: their contact normal points the wrong way
+  // and material sinks into the wall (the muffin cups did).
+  if (cj["shape"].contains("wall_thickness") && cj["shape"]["wall_thickness"].get<double>() < 2 * cell - 1e-12)
+    c.fail(path + ".shape.wall_thickness",
+           fmt::format("{} m is thinner than two MPM cells ({} m): material would sink into the wall; make it at "
+                       "least {} m",
+                       cj["shape"]["wall_thickness"].get<double>(), cell, 2 * cell));
+  // Meshes act through a signed distance grid at half the MPM cell size.
+  if (const auto* mesh = std::get_if<MeshCollider>(&col.geometry))
+    col.geometry = mesh->with_signed_distance(0.5 * cell, 3 * cell);
+  return col;
+}
+
+// auto: heat when anything thermal can happen.
+mpm::HeatMethod heat_method(const std::string& heat, const mpm::Setup& setup) {
+  if (heat == "explicit") return mpm::HeatMethod::explicit_;
+  if (heat == "implicit") return mpm::HeatMethod::implicit;
+  if (heat == "off") return mpm::HeatMethod::off;
+  bool thermal = false;
+  const auto& air = setup.oven.air_temperature.points();
+  for (const auto& b : setup.bodies)
+    for (const auto& [t, v] : air) thermal |= setup.oven.heat_transfer_coefficient > 0 && v != b.temperature;
+  for (const auto& b : setup.bodies) thermal |= b.temperature != setup.bodies.front().temperature;
+  for (const auto& g : setup.colliders) thermal |= g.temperature.has_value();
+  for (const auto& m : setup.materials) thermal |= m.water.active() || m.gas.active() || m.setting.has_value();
+  return thermal ? mpm::HeatMethod::explicit_ : mpm::HeatMethod::off;
+}
+
+}  // namespace
+
+mpm::Setup build_mpm_setup(const Ctx& c, const json& doc, const SceneParts& parts) {
+  mpm::Setup setup;
+  const json& mj = doc["solver"]["mpm"];
+  mpm::Settings& st = setup.settings;
+  st.cell_size = mj["cell_size"].get<double>();
+  st.particles_per_cell = mj["particles_per_cell"].get<int>();
+  st.reorder_every = mj["reorder_every"].get<int>();
+  st.cfl = doc["solver"]["cfl"].get<double>();
+  st.max_dt = doc["solver"]["max_dt"].get<double>();
+  st.baseline = mj["model"].get<std::string>() == "baseline";
+  st.heat_tolerance = mj["heat_tolerance"].get<double>();
+  st.heat_max_iterations = mj["heat_max_iterations"].get<int>();
+  for (const std::string& name : parts.material_names)
+    setup.materials.push_back(build_material(c, name, doc["materials"][name]));
+  for (std::size_t i = 0; i < parts.bodies.size(); ++i) {
+    mpm::Body body;
+    static_cast<BodyBase&>(body) = parts.bodies[i];
+    body.angular_velocity = vec3(doc["bodies"][i]["angular_velocity"]);
+    setup.bodies.push_back(std::move(body));
+  }
+  for (std::size_t i = 0; i < doc["colliders"].size(); ++i)
+    setup.colliders.push_back(build_grid_collider(c, doc["colliders"][i], i, st.cell_size));
+  setup.domain = parts.domain;
+  setup.domain_contact.friction_model = friction_model(doc["domain"], FrictionModel::coulomb);
+  setup.domain_contact.friction = doc["domain"]["friction"].get<double>();
+  setup.domain_contact.damping = doc["domain"]["damping"].get<double>();
+  setup.gravity = parts.gravity;
+  setup.oven = parts.oven;
+  st.heat = heat_method(mj["heat"].get<std::string>(), setup);
+  return setup;
+}
+
+}  // namespace bakesim::scene_parts

@@ -1,0 +1,66 @@
+#pragma once
+// Scene loading, the parts both solvers read the same way (internal to io/):
+// error context, vectors, shapes, collider geometry and contact, motion,
+// curves and schedules, the oven, and the common frame of a scene (material
+// names, bodies, domain, gravity). io/scene.cpp reads the document once into
+// SceneParts; io/scene_sph.cpp and io/scene_mpm.cpp build each solver's setup.
+#include <nlohmann/json.hpp>
+
+#include <string>
+#include <vector>
+
+#include "core/errors.hpp"
+#include "geometry/colliders.hpp"
+#include "geometry/shapes.hpp"
+#include "mpm/setup.hpp"
+#include "physics/curves.hpp"
+#include "physics/oven.hpp"
+#include "sph/setup.hpp"
+
+namespace bakesim::scene_parts {
+
+using nlohmann::json;
+
+inline Vec3 vec3(const json& j) { return Vec3(j[0].get<double>(), j[1].get<double>(), j[2].get<double>()); }
+
+// Everything needed to report an error at a key path of this scene file.
+struct Ctx {
+  std::string file;
+  std::string base_dir;
+  [[noreturn]] void fail(const std::string& path, const std::string& msg) const {
+    throw InputError(file + ": " + path, msg);
+  }
+};
+
+void require_box(const Ctx& c, const std::string& path, const Vec3& lo, const Vec3& hi);
+Vec3 unit_vector(const Ctx& c, const std::string& path, const json& j);
+Shape build_shape(const Ctx& c, const std::string& path, const json& s);
+// Mesh colliders index their triangles at `cell`.
+ColliderGeometry build_collider_geometry(const Ctx& c, const std::string& path, const json& s, Real cell);
+RigidMotion build_motion(const Ctx& c, const std::string& path, const json& m);
+void check_unique_names(const Ctx& c, const json& list, const std::string& key);
+TemperatureCurve build_curve(const Ctx& c, const std::string& path, const json& j);
+PiecewiseLinear build_schedule(const Ctx& c, const std::string& path, const json& j);
+Oven build_oven(const Ctx& c, const json& environment);
+// friction_model "auto" resolves to the solver's own (SPH velocity share, MPM Coulomb).
+FrictionModel friction_model(const json& j, FrictionModel solver_default);
+// The collider at colliders[i]: name, geometry, contact law, motion, temperature.
+Collider build_collider(const Ctx& c, const json& cj, std::size_t i, Real cell, FrictionModel solver_default);
+// materials.NAME.set_temperature (null: never).
+IrreversibleSetting build_setting(const json& material);
+
+// What both solvers read the same way.
+struct SceneParts {
+  std::vector<std::string> material_names;  // name order (JSON objects iterate sorted)
+  std::vector<BodyBase> bodies;
+  Aabb domain;
+  Vec3 gravity = Vec3(0, -9.81, 0);
+  Oven oven;
+};
+SceneParts read_common(const Ctx& c, const json& doc);
+
+// Each solver's setup, in its own file.
+sph::Setup build_sph_setup(const Ctx& c, json& doc, const SceneParts& parts);
+mpm::Setup build_mpm_setup(const Ctx& c, const json& doc, const SceneParts& parts);
+
+}  // namespace bakesim::scene_parts

@@ -1,0 +1,143 @@
+// The SPH solver's setup from a validated scene (docs/scene-reference.md).
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "io/scene_parts.hpp"
+
+namespace bakesim::scene_parts {
+
+namespace {
+
+sph::BubbleDistribution parse_distribution(const std::string& s) {
+  if (s == "centred") return sph::BubbleDistribution::centred;
+  if (s == "layered") return sph::BubbleDistribution::layered;
+  if (s == "region") return sph::BubbleDistribution::region;
+  return sph::BubbleDistribution::uniform;
+}
+
+sph::Material build_material(const Ctx& c, const std::string& name, const json& m) {
+  const std::string path = "materials." + name;
+  sph::Material mat;
+  mat.name = name;
+  mat.rest_density = m["density"].get<double>();
+  mat.viscosity = build_curve(c, path + ".viscosity", m["viscosity"]);
+  mat.surface_tension = m["surface_tension"].get<double>();
+  mat.set = build_setting(m);
+  mat.xsph = build_curve(c, path + ".xsph", m["xsph"]);
+  mat.specific_heat = m["specific_heat"].get<double>();
+  mat.conductivity = m["conductivity"].get<double>();
+  mat.elasticity = build_curve(c, path + ".elasticity", m["elasticity"]);
+  mat.relaxation_time = build_curve(c, path + ".relaxation_time", m["relaxation_time"]);
+  if (std::visit([](const auto& curve) { return curve(-273.15) <= 0 || curve(2000.0) <= 0; }, mat.relaxation_time))
+    c.fail(path + ".relaxation_time", "must stay above 0 s at every temperature");
+  return mat;
+}
+
+sph::BubbleSpec build_bubbles(const Ctx& c, const std::string& path, const json& bj) {
+  sph::BubbleSpec bs;
+  bs.fraction = bj["fraction"].get<double>();
+  bs.distribution = parse_distribution(bj["distribution"].get<std::string>());
+  bs.seed = bj["seed"].get<std::uint64_t>();
+  bs.layers = bj["layers"].get<int>();
+  if (bj.contains("region"))
+    bs.region = build_shape(c, path + ".region", bj["region"]);
+  else if (bs.distribution == sph::BubbleDistribution::region && bs.fraction > 0)
+    c.fail(path, "distribution \"region\" needs a region shape");
+  if (!bj["pressure_scale"].is_null()) bs.pressure_scale = bj["pressure_scale"].get<double>();
+  bs.max_expansion = bj["max_expansion"].get<double>();
+  bs.end_temperature = bj["end_temperature"].get<double>();
+  bs.contract_on_cooling = bj["contract_on_cooling"].get<bool>();
+  return bs;
+}
+
+sph::Settings build_settings(const json& doc) {
+  const json& sj = doc["solver"]["sph"];
+  sph::Settings st;
+  st.spacing = sj["spacing"].get<double>();
+  st.smoothing_ratio = sj["smoothing_ratio"].get<double>();
+  st.search = sph::parse_neighbour_method(sj["neighbour_search"].get<std::string>());
+  st.clamp_negative_pressure = sj["negative_pressure"].get<std::string>() == "clamp";
+  st.wall_density_correction = sj["wall_correction"].get<bool>();
+  st.av_alpha = sj["artificial_viscosity"]["alpha"].get<double>();
+  st.av_beta = sj["artificial_viscosity"]["beta"].get<double>();
+  st.av_epsilon = sj["artificial_viscosity"]["epsilon"].get<double>();
+  st.surface_threshold = sj["surface_threshold"].get<double>();
+  st.heat_conduction = sj["heat_conduction"].get<bool>();
+  st.conduction_factor = sj["conduction_factor"].get<double>();
+  st.viscous_factor = sj["viscous_factor"].get<double>();
+  st.force_factor = sj["force_factor"].get<double>();
+  st.surface_method = sph::parse_surface_method(sj["surface"]["method"].get<std::string>());
+  st.surface_colour_threshold = sj["surface"]["colour_threshold"].get<double>();
+  st.surface_hull_threshold = sj["surface"]["hull_threshold"].get<double>();
+  st.surface_every = sj["surface"]["every_steps"].get<int>();
+  st.viscosity_solver = sph::parse_viscosity_solver(sj["viscosity_solver"].get<std::string>());
+  const json& aj = sj["adaptive_smoothing"];
+  st.adaptive.enabled = aj["enabled"].get<bool>();
+  st.adaptive.geometric_mean = aj["reference"].get<std::string>() == "geometric_mean";
+  st.adaptive.sensitivity = aj["sensitivity"].get<double>();
+  st.adaptive.scale = aj["scale"].get<double>();
+  st.adaptive.min_ratio = aj["range"][0].get<double>();
+  st.adaptive.max_ratio = aj["range"][1].get<double>();
+  if (st.adaptive.min_ratio > st.adaptive.max_ratio)
+    throw InputError("solver.sph.adaptive_smoothing.range", "the lower limit exceeds the upper one");
+  st.artificial_stress = sj["artificial_stress"]["epsilon"].get<double>();
+  st.artificial_stress_exponent = sj["artificial_stress"]["exponent"].get<double>();
+  st.implicit_tolerance = sj["implicit_viscosity"]["tolerance"].get<double>();
+  st.implicit_max_iterations = sj["implicit_viscosity"]["max_iterations"].get<int>();
+  st.cfl = doc["solver"]["cfl"].get<double>();
+  st.max_dt = doc["solver"]["max_dt"].get<double>();
+  return st;
+}
+
+}  // namespace
+
+sph::Setup build_sph_setup(const Ctx& c, json& doc, const SceneParts& parts) {
+  sph::Setup setup;
+  for (const std::string& name : parts.material_names)
+    setup.materials.push_back(build_material(c, name, doc["materials"][name]));
+  Real max_initial_speed = 0;
+  for (std::size_t i = 0; i < parts.bodies.size(); ++i) {
+    const json& b = doc["bodies"][i];
+    sph::Body body;
+    static_cast<BodyBase&>(body) = parts.bodies[i];
+    body.hold_temperature = b["hold_temperature"].get<bool>();
+    body.bubbles = build_bubbles(c, fmt::format("bodies[{}].bubbles", i), b["bubbles"]);
+    max_initial_speed = std::max(max_initial_speed, body.velocity.norm());
+    setup.bodies.push_back(std::move(body));
+  }
+  sph::Settings& st = setup.settings;
+  st = build_settings(doc);
+  setup.gravity = parts.gravity;
+  setup.domain = parts.domain;
+  setup.oven = parts.oven;
+  setup.domain_contact.friction_model = friction_model(doc["domain"], FrictionModel::velocity_share);
+  setup.domain_contact.friction = doc["domain"]["friction"].get<double>();
+  setup.domain_contact.damping = doc["domain"]["damping"].get<double>();
+
+  const json& sj = doc["solver"]["sph"];
+  if (sj["speed_of_sound"].is_string()) {
+    // auto: ten times the fastest flow expected, so density varies ~1%.
+    const Real g = setup.gravity.norm();
+    const Real height = g > 0 ? std::abs(setup.domain.extent().dot(setup.gravity / g)) : 0.0;
+    const Real v = std::max({std::sqrt(2.0 * g * height), max_initial_speed, 0.1});
+    st.speed_of_sound = 10.0 * v;
+    doc["solver"]["sph"]["speed_of_sound"] = st.speed_of_sound;
+  } else {
+    st.speed_of_sound = sj["speed_of_sound"].get<double>();
+  }
+
+  const Real h = st.spacing * st.smoothing_ratio;
+  for (std::size_t i = 0; i < doc["colliders"].size(); ++i) {
+    const json& cj = doc["colliders"][i];
+    Collider col = build_collider(c, cj, i, h, FrictionModel::velocity_share);
+    if (cj.contains("motion") && std::holds_alternative<MeshCollider>(col.geometry))
+      c.fail(fmt::format("colliders[{}].motion", i),
+             "moving mesh colliders are available for the MPM solver only (SPH moves analytic colliders: plane, "
+             "box, container, cylinder, cup)");
+    setup.colliders.push_back(std::move(col));
+  }
+  return setup;
+}
+
+}  // namespace bakesim::scene_parts

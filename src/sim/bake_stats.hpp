@@ -1,0 +1,42 @@
+#pragma once
+// Per-body bake statistics for both solvers, from the particle registry by
+// attribute name (stats.csv columns core_temperature:BODY, ...):
+//   core_temperature    the coldest particle (the core when heated from outside), °C
+//   crust_temperature   the surface temperature, weighted by each particle's
+//                       exchange area ("air_area" MPM, "surface_area" SPH), °C
+//   water               Σ water_mass, kg                       (where particles carry water)
+//   moisture_loss_percent  the share of the body's initial water gone, %
+//   co2_mol             Σ co2 · initial_volume, mol             (where particles carry CO2)
+// Reductions are deterministic: the same state gives the same numbers on any
+// thread count.
+#include <string>
+#include <vector>
+
+#include "core/particles.hpp"
+
+namespace bakesim {
+
+struct BodyBake {
+  Real core_temperature = 0, crust_temperature = 0, water = 0, moisture_loss_percent = 0, co2 = 0;
+};
+
+class BakeStatistics {
+ public:
+  // `initial`: the particles before the first step (their water is the
+  // reference for the moisture loss); `bodies`: how many bodies there are.
+  BakeStatistics(const ParticleSet& initial, std::size_t bodies);
+  bool has_water() const { return water_; }
+  bool has_co2() const { return co2_; }
+  // Column names for one body, in order.
+  std::vector<std::string> columns(const std::string& body) const;
+  // Values in the order of columns().
+  std::vector<Real> values(const BodyBake& b) const;
+  std::vector<BodyBake> compute(const ParticleSet& particles) const;
+
+ private:
+  std::size_t bodies_;
+  bool water_ = false, co2_ = false;
+  std::vector<Real> initial_water_;
+};
+
+}  // namespace bakesim

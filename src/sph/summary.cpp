@@ -1,0 +1,37 @@
+// What an SPH run will simulate, for `bakesim validate`.
+#include <fmt/format.h>
+
+#include "sph/solver.hpp"
+
+namespace bakesim::sph {
+
+std::string SphSolver::summary() const {
+  const Settings& st = setup_.settings;
+  std::string out;
+  out += fmt::format("spacing    {} m, support h = {} m, speed of sound {:.3g} m/s, neighbour search {}\n", st.spacing,
+                     st.spacing * st.smoothing_ratio, st.speed_of_sound, to_string(st.search));
+  out += fmt::format("viscosity  {} (setting: {})\n", implicit_viscosity() ? "implicit" : "explicit",
+                     to_string(st.viscosity_solver));
+  out += fmt::format("surface    {} test\n", to_string(st.surface_method));
+  out += fmt::format("particles  {} in total\n", particles_.size());
+  for (std::size_t b = 0; b < setup_.bodies.size(); ++b) {
+    const Body& body = setup_.bodies[b];
+    out += fmt::format("  body {:<16} {:>9} particles  material {:<10} mass {:.4g} kg each, {:.1f} degC\n",
+                       "'" + body.name + "'", body_particle_count(b), setup_.materials[body.material].name,
+                       particle_mass(body.material), body.temperature);
+    if (body.bubbles.fraction > 0) {
+      std::size_t count = 0;
+      for (std::size_t i = 0; i < bubble_.size(); ++i) count += body_[i] == int(b) && bubble_[i];
+      out += fmt::format("    {} bubble particles ({:.1f}%)\n", count, 100.0 * count / body_particle_count(b));
+    }
+  }
+  out += fmt::format("colliders  {}\n", setup_.colliders.size());
+  for (const Collider& c : setup_.colliders)
+    out += fmt::format("  '{}' friction {} damping {}{}\n", c.name, c.contact.friction, c.contact.damping,
+                       c.motion.moves() ? ", moving" : "");
+  out += "time step  bounds at t = 0:\n";
+  for (const auto& [name, value] : time_step_bounds()) out += fmt::format("  {:<10} {:.3e} s\n", name, value);
+  return out;
+}
+
+}  // namespace bakesim::sph
