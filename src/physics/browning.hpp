@@ -7,7 +7,9 @@
 // Ea = 64 151 J/mol. The state each solver carries is the browning index
 // B = ΔE / ΔE∞ in [0, 1): 0 raw, → 1 burnt. Browning runs on the bake clock.
 #include <cmath>
+#include <vector>
 
+#include "core/parallel.hpp"
 #include "core/types.hpp"
 #include "physics/constants.hpp"
 
@@ -27,6 +29,11 @@ struct BrowningKinetics {
     return 1.0 - (1.0 - index) * std::exp(-rate(temperature_c) * dt_bake);
   }
   Real colour_difference(Real index) const { return index * max_colour_difference; }
+  // Every particle's index over one step of bake time dt_bake, each at its own
+  // temperature (the browning phase of both solvers).
+  void advance_all(std::vector<Real>& index, const std::vector<Real>& temperature, Real dt_bake) const {
+    parallel_for(index.size(), [&](std::size_t i) { index[i] = advance(index[i], temperature[i], dt_bake); });
+  }
 };
 
 }  // namespace bakesim

@@ -21,6 +21,17 @@ inline Real exchange_temperature(Real temperature, Real outside, Real coefficien
 // Energy that entered the particle over that step (J), for bookkeeping.
 inline Real exchanged_energy(Real before, Real after, Real heat_capacity) { return heat_capacity * (after - before); }
 
+// SPH pair conduction (thesis Eq 3.45–3.46 in the Cleary–Monaghan form, which
+// is always diffusive and exchanges heat pairwise, so energy is conserved):
+//   (∇·k∇T)_i = Σ_j V_j (k_i + k_j)(T_i − T_j) x_ij·∇W_ij / (r² + η²),
+// with x_ij·∇W_ij = r² W'(r)/r. Returns the pair's term; their sum over j is
+// ρ_i c_p dT_i/dt (W' < 0, so heat flows from the hotter particle to the colder).
+inline Real pair_conduction(Real volume_j, Real conductivity_i, Real conductivity_j, Real temperature_i,
+                            Real temperature_j, Real dw_dr_over_r, Real r, Real eta2) {
+  return volume_j * (conductivity_i + conductivity_j) * (temperature_i - temperature_j) * (dw_dr_over_r * r * r) /
+         (r * r + eta2);
+}
+
 // Surface heat exchange, the one law both solvers use for the oven air and
 // for hot colliders (Newton's law of cooling; thesis Eq 3.42–3.43, spec 4.3's
 // boundary term): a surface element exchanges q = Σ_c β_c A_c (θ_c − θ) with

@@ -19,6 +19,11 @@ for col in time steps dt particles kinetic_energy max_speed min_x min_y min_z ma
   check 'tr , "\n" <<<"$header" | grep -qx "$col"' "stats.csv has column $col"
 done
 check '[ "$(wc -l < "$OUT/run/stats.csv")" -eq 4 ]' "stats.csv has one row per frame (3 frames + header)"
+# Per-body bake statistics come for both solvers (src/sim/bake_stats.hpp).
+for col in volume:block height:block core_temperature:block crust_temperature:block; do
+  check 'tr , "\n" <<<"$header" | grep -qx "$col"' "SPH stats.csv has column $col"
+done
+check '! grep -q "youngs_modulus" "$OUT/run/scene.json"' "the resolved SPH scene holds no MPM keys"
 check '[ -z "$(find "$OUT/run" -name ".*tmp*")" ]' "no temporary files left behind"
 # --end-time overrides the scene and is recorded in the resolved scene.
 "$BAKESIM" run "$ROOT/tests/data/good_small.json" --out "$OUT/short" --end-time 0.01 --quiet

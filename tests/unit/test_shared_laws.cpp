@@ -325,3 +325,14 @@ TEST(Pcg, SolvesScalarAndThreeComponentSystemsAndReportsWhatFailed) {
   EXPECT_FALSE(short_run.acceptable());
   EXPECT_THROW(require_acceptable(short_run, 1.0, "test solve", "max_iterations"), SimulationError);
 }
+
+TEST(PairConduction, FlowsFromHotToColdAndIsAntisymmetric) {
+  // Cubic spline slope at r = h/2 is negative: W'(r)/r < 0.
+  const Real dwr = -3.0e5, r = 0.01, eta2 = 0.01 * 0.02 * 0.02;
+  const Real into_hot = pair_conduction(1e-6, 0.5, 0.5, 180.0, 20.0, dwr, r, eta2);
+  const Real into_cold = pair_conduction(1e-6, 0.5, 0.5, 20.0, 180.0, dwr, r, eta2);
+  EXPECT_LT(into_hot, 0.0);  // the hot particle loses heat
+  EXPECT_DOUBLE_EQ(into_hot, -into_cold);
+  EXPECT_NEAR(into_hot, 1e-6 * 1.0 * 160.0 * (dwr * r * r) / (r * r + eta2), 1e-15);
+  EXPECT_EQ(pair_conduction(1e-6, 0.5, 0.5, 50.0, 50.0, dwr, r, eta2), 0.0);
+}

@@ -16,10 +16,7 @@ namespace bakesim::mpm {
 // temperature after this step's heat transfer, on the bake clock.
 void MpmSolver::phase_browning(Real dt) {
   ScopedPhase t(timers_, t_browning_);
-  const BrowningKinetics& kinetics = setup_.oven.browning;
-  const Real dt_bake = setup_.oven.bake_step(dt);
-  parallel_for(x_.size(),
-               [&](std::size_t i) { browning_[i] = kinetics.advance(browning_[i], temperature_[i], dt_bake); });
+  setup_.oven.browning.advance_all(browning_, temperature_, setup_.oven.bake_step(dt));
 }
 
 void MpmSolver::check_state() {

@@ -60,7 +60,7 @@ void SphSolver::phase_heat(Real dt) {
           const Real kj = conductivity_[material_[j]];
           const Real hij = 0.5 * (hsup[i] + hsup[j]);
           const Real eta2 = adaptive_ ? 0.01 * hij * hij : eta2_fixed;
-          sum += vol[j] * (ki + kj) * (ti - temp[j]) * (Real(pd[k]) * r * r) / (r * r + eta2);
+          sum += pair_conduction(vol[j], ki, kj, ti, temp[j], Real(pd[k]), r, eta2);
         }
         dtemp_[i] = setup_.bodies[body_[i]].hold_temperature ? 0.0 : dt_bake * sum / (rho_[i] * mi.specific_heat);
       });
@@ -120,10 +120,7 @@ void SphSolver::phase_heat(Real dt) {
 // temperature; the crust browns first because it is the hottest.
 void SphSolver::phase_browning(Real dt) {
   ScopedPhase t(timers_, t_browning_);
-  const BrowningKinetics& kinetics = setup_.oven.browning;
-  const Real dt_bake = setup_.oven.bake_step(dt);
-  parallel_for(x_.size(),
-               [&](std::size_t i) { browning_[i] = kinetics.advance(browning_[i], temperature_[i], dt_bake); });
+  setup_.oven.browning.advance_all(browning_, temperature_, setup_.oven.bake_step(dt));
 }
 
 }  // namespace bakesim::sph
