@@ -8,6 +8,7 @@
 #include <tbb/info.h>
 
 #include <atomic>
+#include <cctype>
 #include <cmath>
 #include <csignal>
 #include <fstream>
@@ -57,6 +58,17 @@ extern "C" void on_stop_signal(int sig) {
   }
 }
 
+// The default output directory out/NAME: the scene's name as one safe path
+// component (a name with "/" or ".." must not reach another directory).
+std::string output_name(const std::string& name) {
+  std::string out;
+  for (const unsigned char ch : name) out += std::isalnum(ch) || ch == '-' || ch == '_' || ch == '.' ? char(ch) : '_';
+  const std::size_t first = out.find_first_not_of('.');
+  out = first == std::string::npos ? "" : out.substr(first);
+  if (out.size() > 100) out.resize(100);
+  return out.empty() ? "scene" : out;
+}
+
 int command_validate(const std::string& path) {
   Scene scene = load_scene(path);
   auto solver = make_solver(scene);
@@ -97,6 +109,11 @@ int command_run(const RunArgs& a) {
     scene_dir = fs::absolute(fs::path(a.scene)).parent_path().string();
   }
   if (a.end_time > 0) {
+    // The limits scene files obey (schema: time.end <= 1e6 s, at most a million frames).
+    if (!(a.end_time <= 1e6)) throw InputError("--end-time", fmt::format("must be <= 1e6 s, got {:g}", a.end_time));
+    if (a.end_time * scene.fps > 1e6)
+      throw InputError("--end-time",
+                       fmt::format("{:g} s at {:g} fps is more than a million frames", a.end_time, scene.fps));
     scene.end_time = a.end_time;
     scene.resolved["time"]["end"] = a.end_time;
   }
@@ -105,7 +122,7 @@ int command_run(const RunArgs& a) {
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
 
   const fs::path out = !a.resume.empty() ? fs::path(a.resume)
-                       : a.out.empty()   ? fs::path("out") / scene.name
+                       : a.out.empty()   ? fs::path("out") / output_name(scene.name)
                                          : fs::path(a.out);
   RunLog log(!a.quiet);
   auto& L = log.logger();

@@ -120,6 +120,21 @@ mpm::Setup build_mpm_setup(const Ctx& c, const json& doc, const SceneParts& part
     body.angular_velocity = vec3(doc["bodies"][i]["angular_velocity"]);
     setup.bodies.push_back(std::move(body));
   }
+  // Node counts in floating point, before anything is allocated (an integer
+  // product wraps around for tiny cells); then about 500 bytes a point and
+  // 170 a node (grid, heat and implicit-heat records).
+  const Vec3 ext = parts.domain.extent();
+  double nodes = 1, points = 0;
+  for (int k = 0; k < 3; ++k) nodes *= std::ceil(ext[k] / st.cell_size) + 1;
+  if (nodes > 4e8)
+    c.fail("solver.mpm.cell_size",
+           fmt::format("the grid over the domain would have {:.3g} nodes (at most 4e8): make the cells larger or the "
+                       "domain smaller",
+                       nodes));
+  const Real spacing = st.cell_size / std::cbrt(Real(st.particles_per_cell));
+  for (const auto& b : setup.bodies) points += lattice_points(b.shape, spacing);
+  require_memory(c, "solver.mpm.cell_size", 500.0 * points + 170.0 * nodes,
+                 fmt::format("about {:.3g} material points and {:.3g} grid nodes", points, nodes));
   for (std::size_t i = 0; i < doc["colliders"].size(); ++i)
     setup.colliders.push_back(build_grid_collider(c, doc["colliders"][i], i, st.cell_size));
   setup.domain = parts.domain;

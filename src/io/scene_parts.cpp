@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <set>
 
+#include "core/memory.hpp"
 #include "geometry/mesh_io.hpp"
 #include "io/schema.hpp"
 
@@ -188,6 +189,19 @@ Collider build_collider(const Ctx& c, const json& cj, std::size_t i, Real cell, 
   return col;
 }
 
+void require_memory(const Ctx& c, const std::string& path, double bytes, const std::string& what) {
+  const double have = physical_memory_bytes();
+  if (!(bytes <= (have > 0 ? have : 1e15)))
+    c.fail(path, fmt::format("this scene needs about {:.3g} GB for {}; this machine has {:.3g} GB", bytes / 1e9, what,
+                             have / 1e9));
+}
+
+double lattice_points(const Shape& shape, Real spacing) {
+  const Vec3 ext = bounds(shape).extent();
+  return (std::floor(ext.x() / spacing) + 1) * (std::floor(ext.y() / spacing) + 1) *
+         (std::floor(ext.z() / spacing) + 1);
+}
+
 IrreversibleSetting build_setting(const json& material) {
   IrreversibleSetting set;
   if (!material["set_temperature"].is_null()) set.temperature = material["set_temperature"].get<double>();
@@ -208,6 +222,13 @@ SceneParts read_common(const Ctx& c, const json& doc) {
     const std::string path = fmt::format("bodies[{}]", i);
     BodyBase body;
     body.name = b["name"].get<std::string>();
+    // Body names head stats.csv columns and reach the terminal: no commas,
+    // quotes or control characters (a newline split the header, and a resume lost rows).
+    for (const unsigned char ch : body.name)
+      if (ch < 0x20 || ch == 0x7f || ch == ',' || ch == '"')
+        c.fail(path + ".name",
+               "must not contain commas, double quotes or control characters (it names stats.csv "
+               "columns)");
     body.source = c.file + ": " + path;
     const std::string mname = b["material"].get<std::string>();
     const auto& names = parts.material_names;

@@ -59,6 +59,13 @@ struct SceneParts {
 };
 SceneParts read_common(const Ctx& c, const json& doc);
 
+// Refuses a scene whose particles and grid nodes would not fit in this
+// machine's memory, before anything is allocated, with an estimate of what it
+// needs (`what`: "particles at spacing 1e-05 m", ...).
+void require_memory(const Ctx& c, const std::string& path, double bytes, const std::string& what);
+// Lattice points a body's shape holds at `spacing` (from its bounding box: an upper bound).
+double lattice_points(const Shape& shape, Real spacing);
+
 // Each solver's setup, in its own file.
 sph::Setup build_sph_setup(const Ctx& c, json& doc, const SceneParts& parts);
 mpm::Setup build_mpm_setup(const Ctx& c, const json& doc, const SceneParts& parts);

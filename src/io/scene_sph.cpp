@@ -108,6 +108,16 @@ sph::Setup build_sph_setup(const Ctx& c, json& doc, const SceneParts& parts) {
   }
   sph::Settings& st = setup.settings;
   st = build_settings(doc);
+  // About 1.5 kB a particle with its neighbour lists (about 40 pairs of index,
+  // distance and kernel values) and per-step scratch.
+  double points = 0;
+  for (const auto& b : setup.bodies) points += lattice_points(b.shape, st.spacing);
+  if (points > 2e9)
+    c.fail("solver.sph.spacing", fmt::format("the bodies would hold about {:.3g} particles at this spacing (at most "
+                                             "2e9)",
+                                             points));
+  require_memory(c, "solver.sph.spacing", 1500.0 * points,
+                 fmt::format("about {:.3g} particles at spacing {} m", points, st.spacing));
   setup.gravity = parts.gravity;
   setup.domain = parts.domain;
   setup.oven = parts.oven;

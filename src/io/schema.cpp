@@ -17,8 +17,31 @@ namespace {
 
 std::string join_path(const std::string& base, const std::string& key) { return base.empty() ? key : base + "." + key; }
 
+// At most `limit` characters of v's JSON text, built without serialising all of
+// it (a value nested 100,000 deep must not overflow the stack here).
+void short_dump(const json& v, std::string& out, std::size_t limit, int depth = 0) {
+  if (out.size() > limit) return;
+  if (depth > 8) {
+    out += "...";
+    return;
+  }
+  if (v.is_array()) {
+    out += '[';
+    for (std::size_t i = 0; i < v.size() && out.size() <= limit; ++i) {
+      if (i) out += ", ";
+      short_dump(v[i], out, limit, depth + 1);
+    }
+    out += ']';
+  } else if (v.is_object()) {
+    out += "{...}";
+  } else {
+    out += v.dump();
+  }
+}
+
 std::string describe(const json& v) {
-  std::string dump = v.dump();
+  std::string dump;
+  short_dump(v, dump, 40);
   if (dump.size() > 40) dump = dump.substr(0, 37) + "...";
   switch (v.type()) {
     case json::value_t::null: return "null";
@@ -133,6 +156,10 @@ bool read_by(const json& property, const std::string& solver) {
 
 void SchemaValidator::check(json& value, const json& schema_in, const std::string& path, const std::string& file,
                             const std::string& solver) const {
+  // A scene is a few levels deep (a union of unions of shapes is the deepest
+  // that means anything); a crafted file must not exhaust the stack.
+  if (std::count(path.begin(), path.end(), '.') + std::count(path.begin(), path.end(), '[') > 64)
+    throw InputError(file + ": " + path.substr(0, 120) + "...", "nested more than 64 levels deep");
   // Keys next to a $ref (unit, description, default) annotate the referenced schema.
   const json& s = resolve(schema_in);
   const std::string where = path.empty() ? file : file + ": " + path;

@@ -57,6 +57,11 @@ MpmSolver::MpmSolver(Setup setup)
   dx_ = s.cell_size;
   inv_dx_ = 1.0 / dx_;
   const Vec3 ext = setup_.domain.extent();
+  // In floating point first: the integer product of tiny cells wraps around.
+  const double node_estimate =
+      (std::ceil(ext.x() * inv_dx_) + 1) * (std::ceil(ext.y() * inv_dx_) + 1) * (std::ceil(ext.z() * inv_dx_) + 1);
+  if (!(node_estimate <= 4e8))
+    throw InputError("solver.mpm.cell_size", "the grid over the domain would have more than 4e8 nodes");
   nx_ = static_cast<int>(std::ceil(ext.x() * inv_dx_)) + 1;
   ny_ = static_cast<int>(std::ceil(ext.y() * inv_dx_)) + 1;
   nz_ = static_cast<int>(std::ceil(ext.z() * inv_dx_)) + 1;

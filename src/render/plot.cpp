@@ -17,7 +17,16 @@ namespace fs = std::filesystem;
 using Rgb = std::array<std::uint8_t, 3>;
 
 std::vector<double> nice_ticks(double lo, double hi, int target) {
+  if (!std::isfinite(lo) || !std::isfinite(hi)) lo = 0, hi = 1;
   if (!(hi > lo)) hi = lo + 1;
+  // A span too small to step through at this magnitude (a run of a few
+  // nanoseconds): widen it, so the steps are representable and the list is never empty.
+  const double scale = std::max({std::abs(lo), std::abs(hi), 1e-300});
+  if (!(hi - lo > 1e-9 * scale)) {
+    const double w = std::max(1e-6 * scale, 1e-12);
+    lo -= w;
+    hi += w;
+  }
   const double raw = (hi - lo) / std::max(1, target);
   const double mag = std::pow(10.0, std::floor(std::log10(raw)));
   double step = mag;
@@ -29,6 +38,7 @@ std::vector<double> nice_ticks(double lo, double hi, int target) {
   std::vector<double> ticks;
   for (double t = std::ceil(lo / step - 1e-9) * step; t <= hi + 1e-9 * step; t += step)
     ticks.push_back(std::abs(t) < 1e-12 * step ? 0.0 : t);
+  if (ticks.empty()) ticks.push_back(lo);
   return ticks;
 }
 

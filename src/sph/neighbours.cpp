@@ -8,6 +8,8 @@
 #include <cmath>
 #include <numeric>
 
+#include <fmt/format.h>
+
 #include "core/errors.hpp"
 #include "core/parallel.hpp"
 
@@ -42,8 +44,9 @@ void CellGrid::configure(const Aabb& box, Real cell_size) {
   nz_ = std::max(1, int(std::ceil(ext.z() * inv_cell_)));
   const double cells = double(nx_) * ny_ * nz_;
   if (cells > 4e8)
-    throw Error("neighbour grid would need " + std::to_string(cells) +
-                " cells: domain too large for the smoothing length");
+    throw InputError("solver.sph.spacing", fmt::format("the neighbour grid over the domain would need {:.3g} cells "
+                                                       "(at most 4e8): the domain is too large for this spacing",
+                                                       cells));
   cell_start_.assign(std::size_t(nx_) * ny_ * nz_ + 1, 0);
 }
 

@@ -41,6 +41,19 @@ expect 2 'threads' -- "$BAKESIM" run "$DATA/good_small.json" --threads 0
 expect 2 'unknown-flag|not expected|Extras' -- "$BAKESIM" run "$DATA/good_small.json" --unknown-flag
 expect 0 '' -- "$BAKESIM" --version
 expect 0 '' -- "$BAKESIM" validate "$DATA/good_small.json"
+# --end-time obeys the limits a scene file does (1e30 overflowed an int and "succeeded" after one frame).
+expect 2 '--end-time: must be <= 1e6 s' -- "$BAKESIM" run "$DATA/good_small.json" --out "$OUT/long" --quiet --end-time 1e30
+expect 2 '--end-time: .*more than a million frames' -- "$BAKESIM" run "$DATA/good_small.json" --out "$OUT/long" --quiet --end-time 1e5
+# A scene's name makes one directory under out/, never a path elsewhere (../evil wrote beside out/).
+mkdir -p "$OUT/cwd"
+sed 's/"solver"/"name": "..\/..\/evil", "solver"/' "$DATA/good_small.json" > "$OUT/cwd/evil.json"
+(cd "$OUT/cwd" && "$BAKESIM" run evil.json --quiet --end-time 0.01)
+if [ -d "$OUT/cwd/out/_.._evil" ] && [ ! -e "$OUT/evil" ] && [ ! -e "$OUT/cwd/evil" ]; then
+  echo "ok: a scene named ../../evil runs into out/_.._evil"
+else
+  echo "FAIL: a scene named ../../evil ran outside out/: $(ls "$OUT" "$OUT/cwd" "$OUT/cwd/out" 2>&1 | tr '\n' ' ')"
+  fail=1
+fi
 # An unwritable output directory is an I/O failure, reported with its path.
 expect 1 "/proc/bakesim-out" -- "$BAKESIM" run "$DATA/good_small.json" --out /proc/bakesim-out --quiet
 exit $fail

@@ -371,3 +371,35 @@ TEST(Scene, ProbeQuantitiesAreTheSolversAttributes) {
   d["probes"][0]["quantities"] = {"temperature", "density", "speed"};
   EXPECT_NO_THROW(make_solver(parse_scene(d.dump(), "scene.json", ".")));
 }
+
+// Crafted inputs (issue 21): each was a crash or a silent harm before.
+TEST(Scene, CraftedSizesAndNamesAreRefusedBeforeAnythingIsAllocated) {
+  // A node count that wraps around 2^64 as an integer product (nx = ny = 2^22, nz = 2^20).
+  json wrap = mpm_scene();
+  wrap["colliders"] = json::array();
+  wrap["solver"]["mpm"]["cell_size"] = 1e-6;
+  wrap["domain"] = {{"min", {0, 0, 0}}, {"max", {4.194303, 4.194303, 1.048575}}};
+  wrap["bodies"][0]["shape"] = {{"type", "box"}, {"min", {0.1, 0.1, 0.1}}, {"max", {0.2, 0.2, 0.2}}};
+  expect_error(wrap, {"solver.mpm.cell_size", "nodes (at most 4e8)"});
+  // An SPH spacing that would need more particles than memory holds: exit 2 with an estimate.
+  json fine = base_scene();
+  fine["solver"]["sph"]["spacing"] = 2e-5;
+  expect_error(fine, {"solver.sph.spacing", "particles"});
+  // A comma or newline in a body name would split the stats.csv header.
+  for (const char* name : {"a,b", "a\nb", "say \"hi\""}) {
+    json d = base_scene();
+    d["bodies"][0]["name"] = name;
+    expect_error(d, {"bodies[0].name", "commas, double quotes or control characters"});
+  }
+  // A value nested 100,000 deep is reported without serialising it (stack overflow before).
+  std::string deep = base_scene().dump();
+  const std::string nested = std::string(100000, '[') + std::string(100000, ']');
+  deep.replace(deep.find("\"density\":1000"), std::string("\"density\":1000").size(), "\"density\":" + nested);
+  expect_text_error(deep, {"materials.water.density", "expected a number"});
+  // A union nested 100 deep is refused by depth.
+  json shape = {{"type", "sphere"}, {"center", {0.05, 0.05, 0.05}}, {"radius", 0.02}};
+  for (int i = 0; i < 100; ++i) shape = {{"type", "union"}, {"shapes", json::array({shape})}};
+  json u = base_scene();
+  u["bodies"][0]["shape"] = shape;
+  expect_error(u, {"nested more than 64 levels deep"});
+}

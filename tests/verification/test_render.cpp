@@ -109,3 +109,18 @@ TEST(Plot, NiceTicksAndALineWhereTheDataAre) {
   const int top = 50, bottom = 300 - 70;
   EXPECT_NEAR(found, (top + bottom) / 2, 12);
 }
+
+TEST(Plot, ATinyOrDegenerateSpanStillGetsTicksAndAPicture) {
+  // A run of a few nanoseconds: the tick step was not representable (issue 21: a crash).
+  for (const auto& [lo, hi] : std::vector<std::pair<double, double>>{
+           {1.0, 1.0 + 1e-15}, {0.0, 1e-310}, {5.0, 5.0}, {1e6, 1e6 + 1e-9}, {0.0, std::nan("")}}) {
+    const auto t = nice_ticks(lo, hi);
+    ASSERT_FALSE(t.empty()) << lo << " " << hi;
+    EXPECT_LT(t.size(), 100u);
+    for (double v : t) EXPECT_TRUE(std::isfinite(v));
+  }
+  PlotSpec spec{"tiny", "time (s)", "T", {{"probe", {0.0, 1e-12, 2e-12}, {20, 20, 20}}}, 200, 150};
+  const TextRenderer text;
+  const Image img = plot_lines(spec, text);
+  EXPECT_EQ(img.width, 200);
+}
