@@ -2,10 +2,13 @@
 // what is allowed; good input is resolved with every default filled in.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
+#include <functional>
 #include <fstream>
 
 #include "core/errors.hpp"
+#include "io/checkpoint.hpp"
 #include "io/scene.hpp"
 #include "io/schema.hpp"
 
@@ -402,4 +405,42 @@ TEST(Scene, CraftedSizesAndNamesAreRefusedBeforeAnythingIsAllocated) {
   json u = base_scene();
   u["bodies"][0]["shape"] = shape;
   expect_error(u, {"nested more than 64 levels deep"});
+}
+
+// A checkpoint edited and re-checksummed is refused unless it could have come
+// from a run of this scene (issue 21: a NaN position, an out-of-range body or
+// material id, a NaN time or a negative frame were trusted).
+TEST(Checkpoint, CraftedContentsAreRefusedAfterTheChecksum) {
+  const Scene scene = parse_scene(base_scene().dump(), "scene.json", ".");
+  auto solver = make_solver(scene);
+  solver->step(1e-4);
+  const Checkpoint good = capture_checkpoint(*solver);
+  auto restore = [&](const Checkpoint& c) {
+    auto fresh = make_solver(scene);
+    const Checkpoint decoded = decode_checkpoint(encode_checkpoint(c), "crafted.ckpt");  // checksum recomputed
+    restore_checkpoint(*fresh, decoded, "crafted.ckpt");
+  };
+  EXPECT_NO_THROW(restore(good));
+  auto expect_refused = [&](const std::function<void(Checkpoint&)>& edit, const std::string& why) {
+    Checkpoint c = good;
+    edit(c);
+    try {
+      restore(c);
+      ADD_FAILURE() << "accepted: " << why;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("checkpoint refused"), std::string::npos) << e.what();
+    }
+  };
+  expect_refused([](Checkpoint& c) { c.particles.vector("position")[3].x() = std::nan(""); }, "NaN position");
+  expect_refused([](Checkpoint& c) { c.particles.integer("material_id")[0] = 7; }, "material id");
+  expect_refused([](Checkpoint& c) { c.particles.integer("body_id")[1] = -1; }, "body id");
+  expect_refused([](Checkpoint& c) { c.particles.integer("id")[2] = c.particles.integer("id")[3]; }, "duplicate id");
+  expect_refused([](Checkpoint& c) { c.frame = -1; }, "negative frame");
+  expect_refused(
+      [](Checkpoint& c) {
+        for (auto& [name, value] : c.solver_state)
+          if (name == "time") value = std::nan("");
+      },
+      "NaN time");
+  expect_refused([](Checkpoint& c) { c.particles.resize(c.particles.size() - 1); }, "a particle missing");
 }
