@@ -77,9 +77,11 @@ class Reader {
  private:
   template <class T>
   void read_values(std::vector<T>& v, std::uint64_t n) {
-    need(n * sizeof(T));
+    // A crafted count must not wrap n·sizeof(T) around, and an empty list has
+    // no data pointer to copy to (memcpy with null is undefined even for 0 bytes).
+    if (n > (b_.size() - pos_) / sizeof(T)) fail("it ends early");
     v.resize(n);
-    std::memcpy(static_cast<void*>(v.data()), b_.data() + pos_, n * sizeof(T));
+    if (n > 0) std::memcpy(static_cast<void*>(v.data()), b_.data() + pos_, n * sizeof(T));
     pos_ += n * sizeof(T);
   }
   void need(std::uint64_t n) const {
