@@ -45,17 +45,24 @@ T deterministic_reduce(std::size_t n, T identity, ChunkFn&& chunk_fn, Combine&& 
   return result;
 }
 
-// Σ term(i) over [0, n), summed in the same order on any thread count.
-template <class Term>
-double deterministic_sum(std::size_t n, Term&& term) {
+// Σ term(i) over [0, n) of any type with + (a number, a vector), starting
+// from `zero`, summed in the same order on any thread count.
+template <class T, class Term>
+T deterministic_sum_of(std::size_t n, const T& zero, Term&& term) {
   return deterministic_reduce(
-      n, 0.0,
+      n, zero,
       [&](std::size_t b, std::size_t e) {
-        double sum = 0;
+        T sum = zero;
         for (std::size_t i = b; i < e; ++i) sum += term(i);
         return sum;
       },
-      [](double a, double b) { return a + b; });
+      [](const T& a, const T& b) { return T(a + b); });
+}
+
+// Σ term(i) over [0, n) in double precision.
+template <class Term>
+double deterministic_sum(std::size_t n, Term&& term) {
+  return deterministic_sum_of(n, 0.0, term);
 }
 
 }  // namespace bakesim

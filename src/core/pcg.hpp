@@ -58,15 +58,7 @@ struct PcgResult {
 // Σ term(i) over [0, n), the same on any thread count.
 template <class Value, class Term>
 Value pcg_sum(std::size_t n, Term&& term) {
-  const Value identity = pcg_detail::zero(Value{});
-  return deterministic_reduce(
-      n, identity,
-      [&](std::size_t b, std::size_t e) {
-        Value s = identity;
-        for (std::size_t i = b; i < e; ++i) s += term(i);
-        return s;
-      },
-      [](const Value& a, const Value& b) { return Value(a + b); });
+  return deterministic_sum_of(n, pcg_detail::zero(Value{}), term);
 }
 
 // Solves A x = b for the rows where active(i) (x is the initial guess and the

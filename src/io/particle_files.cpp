@@ -2,7 +2,6 @@
 
 #include <fmt/format.h>
 
-#include "core/errors.hpp"
 #include "io/binary.hpp"
 
 #include <bit>
@@ -145,12 +144,6 @@ const std::vector<ParticleFormat>& particle_formats() {
       {"vtu", ".vtu", &encode_vtu, true},
   };
   return formats;
-}
-
-const ParticleFormat& particle_format(const std::string& name) {
-  for (const ParticleFormat& f : particle_formats())
-    if (name == f.name) return f;
-  throw InputError("output.particles", "unknown particle format '" + name + "'");
 }
 
 }  // namespace bakesim

@@ -23,8 +23,6 @@ struct ParticleFormat {
   bool paraview_series;                       // listed in particles.pvd
 };
 const std::vector<ParticleFormat>& particle_formats();
-// The row of `name`; throws InputError for an unknown name.
-const ParticleFormat& particle_format(const std::string& name);
 
 struct PvdEntry {
   double time;

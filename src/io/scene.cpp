@@ -105,22 +105,25 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::s
   if (sc.end_time * sc.fps > 1e6) c.fail("time", "more than a million frames: lower time.fps or time.end");
   require_box(c, "domain", vec3(doc["domain"]["min"]), vec3(doc["domain"]["max"]));
 
-  const SceneParts parts = read_common(c, doc);
-  sc.oven = parts.oven;
-  sc.gravity = parts.gravity;
-  for (std::size_t i = 0; i < parts.bodies.size(); ++i)
-    sc.bodies.push_back(
-        {parts.bodies[i].name, sc.solver_type == "sph" && doc["bodies"][i]["hold_temperature"].get<bool>()});
-  if (sc.solver_type == "mpm")
+  const SceneParts parts = read_common(c, doc, solver_friction_model(sc.solver_type));
+  sc.oven = parts.world.oven;
+  sc.gravity = parts.world.gravity;
+  // The bodies as the stats columns need them, from the chosen solver's setup
+  // (only SPH holds a body at its temperature).
+  if (sc.solver_type == "mpm") {
     sc.mpm = build_mpm_setup(c, doc, parts);
-  else
+    for (const auto& b : sc.mpm.bodies) sc.bodies.push_back({b.name, false});
+  } else {
     sc.sph = build_sph_setup(c, doc, parts);
+    for (const auto& b : sc.sph.bodies) sc.bodies.push_back({b.name, b.hold_temperature});
+  }
 
   for (std::size_t i = 0; i < doc["probes"].size(); ++i) {
     const json& pj = doc["probes"][i];
     ProbeSpec p{pj["name"].get<std::string>(), vec3(pj["position"]), pj["quantities"].get<std::vector<std::string>>(),
                 pj["follow"].get<bool>()};
-    if (!parts.domain.contains(p.position)) c.fail(fmt::format("probes[{}].position", i), "lies outside the domain");
+    if (!parts.world.domain.contains(p.position))
+      c.fail(fmt::format("probes[{}].position", i), "lies outside the domain");
     sc.probes.push_back(std::move(p));
   }
   sc.output.particle_formats = doc["output"]["particles"].get<std::vector<std::string>>();

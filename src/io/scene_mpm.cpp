@@ -102,6 +102,7 @@ mpm::HeatMethod heat_method(const std::string& heat, const mpm::Setup& setup) {
 
 mpm::Setup build_mpm_setup(const Ctx& c, const json& doc, const SceneParts& parts) {
   mpm::Setup setup;
+  static_cast<World&>(setup) = parts.world;
   const json& mj = doc["solver"]["mpm"];
   mpm::Settings& st = setup.settings;
   st.cell_size = mj["cell_size"].get<double>();
@@ -123,7 +124,7 @@ mpm::Setup build_mpm_setup(const Ctx& c, const json& doc, const SceneParts& part
   // Node counts in floating point, before anything is allocated (an integer
   // product wraps around for tiny cells); then about 500 bytes a point and
   // 170 a node (grid, heat and implicit-heat records).
-  const Vec3 ext = parts.domain.extent();
+  const Vec3 ext = setup.domain.extent();
   double nodes = 1, points = 0;
   for (int k = 0; k < 3; ++k) nodes *= std::ceil(ext[k] / st.cell_size) + 1;
   if (nodes > 4e8)
@@ -137,12 +138,6 @@ mpm::Setup build_mpm_setup(const Ctx& c, const json& doc, const SceneParts& part
                  fmt::format("about {:.3g} material points and {:.3g} grid nodes", points, nodes));
   for (std::size_t i = 0; i < doc["colliders"].size(); ++i)
     setup.colliders.push_back(build_grid_collider(c, doc["colliders"][i], i, st.cell_size));
-  setup.domain = parts.domain;
-  setup.domain_contact.friction_model = friction_model(doc["domain"], FrictionModel::coulomb);
-  setup.domain_contact.friction = doc["domain"]["friction"].get<double>();
-  setup.domain_contact.damping = doc["domain"]["damping"].get<double>();
-  setup.gravity = parts.gravity;
-  setup.oven = parts.oven;
   st.heat = heat_method(mj["heat"].get<std::string>(), setup);
   return setup;
 }

@@ -208,15 +208,19 @@ IrreversibleSetting build_setting(const json& material) {
   return set;
 }
 
-SceneParts read_common(const Ctx& c, const json& doc) {
+SceneParts read_common(const Ctx& c, const json& doc, FrictionModel solver_friction) {
   SceneParts parts;
   for (auto it = doc["materials"].begin(); it != doc["materials"].end(); ++it) parts.material_names.push_back(it.key());
   check_unique_names(c, doc["bodies"], "bodies");
   check_unique_names(c, doc["colliders"], "colliders");
   check_unique_names(c, doc["probes"], "probes");
-  parts.domain = {vec3(doc["domain"]["min"]), vec3(doc["domain"]["max"])};
-  parts.gravity = vec3(doc["gravity"]);
-  parts.oven = build_oven(c, doc["environment"]);
+  World& world = parts.world;
+  world.domain = {vec3(doc["domain"]["min"]), vec3(doc["domain"]["max"])};
+  world.domain_contact.friction_model = friction_model(doc["domain"], solver_friction);
+  world.domain_contact.friction = doc["domain"]["friction"].get<double>();
+  world.domain_contact.damping = doc["domain"]["damping"].get<double>();
+  world.gravity = vec3(doc["gravity"]);
+  world.oven = build_oven(c, doc["environment"]);
   for (std::size_t i = 0; i < doc["bodies"].size(); ++i) {
     const json& b = doc["bodies"][i];
     const std::string path = fmt::format("bodies[{}]", i);

@@ -53,11 +53,16 @@ IrreversibleSetting build_setting(const json& material);
 struct SceneParts {
   std::vector<std::string> material_names;  // name order (JSON objects iterate sorted)
   std::vector<BodyBase> bodies;
-  Aabb domain;
-  Vec3 gravity = Vec3(0, -9.81, 0);
-  Oven oven;
+  World world;  // domain and its walls, gravity, oven; each solver adds its colliders
 };
-SceneParts read_common(const Ctx& c, const json& doc);
+// `solver_friction`: what domain.friction_model "auto" means for the chosen solver.
+SceneParts read_common(const Ctx& c, const json& doc, FrictionModel solver_friction);
+
+// The friction model "auto" stands for, per solver (velocity share: thesis
+// Eq 3.33; Coulomb: the MPM paper).
+inline FrictionModel solver_friction_model(const std::string& solver_type) {
+  return solver_type == "mpm" ? FrictionModel::coulomb : FrictionModel::velocity_share;
+}
 
 // Refuses a scene whose particles and grid nodes would not fit in this
 // machine's memory, before anything is allocated, with an estimate of what it

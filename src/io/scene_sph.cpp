@@ -118,12 +118,7 @@ sph::Setup build_sph_setup(const Ctx& c, json& doc, const SceneParts& parts) {
                                              points));
   require_memory(c, "solver.sph.spacing", 1500.0 * points,
                  fmt::format("about {:.3g} particles at spacing {} m", points, st.spacing));
-  setup.gravity = parts.gravity;
-  setup.domain = parts.domain;
-  setup.oven = parts.oven;
-  setup.domain_contact.friction_model = friction_model(doc["domain"], FrictionModel::velocity_share);
-  setup.domain_contact.friction = doc["domain"]["friction"].get<double>();
-  setup.domain_contact.damping = doc["domain"]["damping"].get<double>();
+  static_cast<World&>(setup) = parts.world;
 
   const json& sj = doc["solver"]["sph"];
   if (sj["speed_of_sound"].is_string()) {

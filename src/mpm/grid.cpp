@@ -46,7 +46,8 @@ void BlockOrder::block_index(std::size_t b, std::size_t ijk[3]) const {
 
 void BlockOrder::colour() {
   const std::size_t blocks = std::size_t(bx_) * by_ * bz_;
-  colour_blocks_.assign(8, {});
+  colour_blocks_.resize(8);
+  for (auto& list : colour_blocks_) list.clear();  // keeps their capacity: no allocation per step
   for (std::size_t b = 0; b < blocks; ++b) {
     if (block_start_[b] == block_start_[b + 1]) continue;
     std::size_t ijk[3];

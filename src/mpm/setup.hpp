@@ -8,6 +8,7 @@
 
 #include "geometry/colliders.hpp"
 #include "geometry/shapes.hpp"
+#include "geometry/world.hpp"
 #include "mpm/constitutive.hpp"
 #include "physics/leavening.hpp"
 #include "physics/moisture.hpp"
@@ -53,19 +54,10 @@ struct Settings {
   int reorder_every = 16;  // steps between reordering particle memory by grid block
 };
 
-struct Setup {
+struct Setup : World {
   Settings settings;
   std::vector<Material> materials;
   std::vector<Body> bodies;
-  // A collider acts on the grid nodes inside it (signed distance ≤ 0) through
-  // their velocity relative to its own; mesh colliders need their signed
-  // distance grid (MeshCollider::with_signed_distance).
-  std::vector<Collider> colliders;
-  Aabb domain;
-  // Domain walls: separating contact with Coulomb friction.
-  ContactLaw domain_contact{ContactMode::separate, FrictionModel::coulomb, 0.0, 1.0};
-  Vec3 gravity = Vec3(0, -9.81, 0);
-  Oven oven;  // air, bake clock, browning (physics/oven.hpp)
 };
 
 }  // namespace bakesim::mpm

@@ -9,6 +9,7 @@
 
 #include "geometry/colliders.hpp"
 #include "geometry/shapes.hpp"
+#include "geometry/world.hpp"
 #include "physics/curves.hpp"
 #include "physics/oven.hpp"
 #include "physics/setting.hpp"
@@ -96,16 +97,10 @@ struct Settings {
   Real max_dt = 1e-3;
 };
 
-struct Setup {
+struct Setup : World {
   Settings settings;
   std::vector<Material> materials;
   std::vector<Body> bodies;
-  std::vector<Collider> colliders;
-  Aabb domain;
-  Oven oven;  // air, bake clock, browning (physics/oven.hpp)
-  // Domain walls: separating contact, friction as a velocity share (Eq 3.33).
-  ContactLaw domain_contact{ContactMode::separate, FrictionModel::velocity_share, 0.0, 1.0};
-  Vec3 gravity = Vec3(0, -9.81, 0);
 };
 
 }  // namespace bakesim::sph

@@ -5,6 +5,7 @@
 
 #include "core/parallel.hpp"
 #include "physics/constants.hpp"
+#include "physics/heat.hpp"
 #include "physics/porosity.hpp"
 
 namespace bakesim::mpm {
@@ -100,7 +101,7 @@ void MpmSolver::phase_plasticity(Real dt) {
                                           grad_s_[i];
                         }
                         tau.diagonal().array() -= kirchhoff_pressure;
-                        heat_src_[i] = exchange_t_[i] - exchange_[i] * temperature_[i];
+                        heat_src_[i] = SurfaceExchange{exchange_[i], exchange_t_[i]}.heat_rate(temperature_[i]);
                         heat_vec_[i] = -(volume * mat.conductivity * flux_scale) * grad_theta_[i];
                       }
                       tau_diag_[i] = tau.diagonal();

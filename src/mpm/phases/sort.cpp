@@ -20,7 +20,8 @@ void MpmSolver::phase_sort() {
 }
 
 void MpmSolver::group_by_material() {
-  material_members_.assign(setup_.materials.size(), {});
+  material_members_.resize(setup_.materials.size());
+  for (auto& members : material_members_) members.clear();
   for (std::size_t i = 0; i < x_.size(); ++i) material_members_[material_[i]].push_back(static_cast<std::uint32_t>(i));
 }
 

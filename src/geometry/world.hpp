@@ -1,0 +1,27 @@
+#pragma once
+// Where a run happens, the same for both solvers: the domain box and the
+// contact law of its walls, gravity, the colliders and the oven. Each
+// solver's Setup adds its settings, materials and bodies.
+#include <vector>
+
+#include "core/types.hpp"
+#include "geometry/colliders.hpp"
+#include "geometry/contact.hpp"
+#include "physics/oven.hpp"
+
+namespace bakesim {
+
+struct World {
+  Aabb domain;
+  // The domain walls: separating contact; the friction model is the scene's
+  // domain.friction_model (auto: velocity share for SPH, Coulomb for MPM).
+  ContactLaw domain_contact;
+  Vec3 gravity = Vec3(0, -9.81, 0);
+  // SPH: analytic colliders and meshes; MPM: colliders act on the grid nodes
+  // inside them (signed distance ≤ 0) through their velocity relative to their
+  // own, mesh colliders through their signed distance grid.
+  std::vector<Collider> colliders;
+  Oven oven;  // air, bake clock, browning (physics/oven.hpp)
+};
+
+}  // namespace bakesim
