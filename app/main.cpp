@@ -1,7 +1,7 @@
 // bakesim command line: a thin front end over the library. Turns exceptions
 // into messages and exit codes: 0 ok, 1 runtime or I/O failure, 2 bad input,
 // 3 the simulation reached an invalid state, 128 + N stopped by signal N
-// (SIGINT, SIGTERM) after writing a checkpoint.
+// (SIGINT, SIGTERM, SIGHUP) after writing a checkpoint.
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 #include <tbb/global_control.h>
@@ -9,6 +9,7 @@
 
 #include <atomic>
 #include <cctype>
+#include <cerrno>
 #include <cmath>
 #include <csignal>
 #include <fstream>
@@ -23,6 +24,7 @@
 #include "core/progress.hpp"
 #include "io/checkpoint.hpp"
 #include "io/files.hpp"
+#include "io/run_directory.hpp"
 #include "io/run_meshes.hpp"
 #include "io/run_output.hpp"
 #include "io/scene.hpp"
@@ -46,10 +48,11 @@ struct RunArgs {
   int checkpoint_frames = -1;  // -1: the scene's output.checkpoint
   double checkpoint_minutes = -1;
   bool quiet = false;
+  bool force = false;
 };
 
-// SIGINT/SIGTERM: the first asks the run to stop after the current frame
-// (with a checkpoint); a second one ends the process at once.
+// SIGINT/SIGTERM/SIGHUP: the first asks the run to stop after the current
+// frame (with a checkpoint); a second one ends the process at once.
 std::atomic<int> g_stop_signal{0};
 extern "C" void on_stop_signal(int sig) {
   if (g_stop_signal.exchange(sig) != 0) {
@@ -69,6 +72,17 @@ std::string output_name(const std::string& name) {
   return out.empty() ? "scene" : out;
 }
 
+// Control characters of file names and scene text are shown escaped, never sent to the terminal.
+std::string printable(const std::string& s) {
+  std::string out;
+  for (const unsigned char ch : s)
+    if ((ch < 0x20 && ch != '\n' && ch != '\t') || ch == 0x7f)
+      out += fmt::format("\\x{:02x}", ch);
+    else
+      out += char(ch);
+  return out;
+}
+
 int command_validate(const std::string& path) {
   Scene scene = load_scene(path);
   auto solver = make_solver(scene);
@@ -84,12 +98,24 @@ int command_run(const RunArgs& a) {
   fs::path checkpoint_file;
   Scene scene;
   std::string scene_dir;
+  RunDirectoryLock lock;
   if (!a.resume.empty()) {
     const fs::path dir = a.resume;
     if (!fs::is_regular_file(dir / "scene.json")) throw InputError(a.resume, "not a run directory (no scene.json)");
+    lock = claim_existing_run(dir);
+    // The newest checkpoint of this run's scene that decodes; damaged or foreign ones are passed over.
+    std::string run_fingerprint;
+    try {
+      run_fingerprint = scene_fingerprint(nlohmann::json::parse(read_file(dir / "scene.json")));
+    } catch (const nlohmann::json::exception& e) {
+      throw InputError((dir / "scene.json").string(), std::string("not valid JSON: ") + e.what());
+    }
     for (const auto& file : list_checkpoints(dir)) {
       try {
-        checkpoint = decode_checkpoint(read_file(file), file.string());
+        Checkpoint candidate = decode_checkpoint(read_file(file), file.string());
+        if (candidate.scene_fingerprint != run_fingerprint)
+          throw InputError(file.string(), "checkpoint of a different scene than " + (dir / "scene.json").string());
+        checkpoint = std::move(candidate);
         checkpoint_file = file;
         break;
       } catch (const InputError& e) {
@@ -126,13 +152,20 @@ int command_run(const RunArgs& a) {
                                          : fs::path(a.out);
   RunLog log(!a.quiet);
   auto& L = log.logger();
-  if (!a.resume.empty()) {
-    std::ifstream old(out / "log.txt");
-    if (old) L.info("(log of the run before the resume follows)\n{}", read_file(out / "log.txt"));
-  }
   L.info("bakesim {} run of {} ({} threads of {})", BAKESIM_VERSION, a.resume.empty() ? a.scene : a.resume, threads,
          hw);
   auto solver = make_solver(scene);
+  if (a.resume.empty()) {
+    // The directory is claimed only once the scene is known to be good: a bad scene touches nothing.
+    RunDirectoryClaim claim = claim_new_run(out, scene.name, a.force);
+    lock = std::move(claim.lock);
+    if (!claim.moved_aside.empty()) {
+      L.info("{} held an earlier run; its files were moved into {}", out.string(), (out / kPreviousRunDir).string());
+      if (!a.quiet)
+        fmt::print(stderr, "bakesim: {} held an earlier run; moved it into {}/\n", printable(out.string()),
+                   printable((out / kPreviousRunDir).string()));
+    }
+  }
   L.info("{} particles; output in {}", solver->particles().size(), out.string());
   RunOutput output(out, scene, *solver, log);
   FrameLoopConfig cfg;
@@ -184,8 +217,7 @@ int command_run(const RunArgs& a) {
     return !stop;
   };
   g_stop_signal = 0;
-  std::signal(SIGINT, on_stop_signal);
-  std::signal(SIGTERM, on_stop_signal);
+  for (const int sig : {SIGINT, SIGTERM, SIGHUP}) std::signal(sig, on_stop_signal);
   ProgressBar progress(stderr, !a.quiet);
   RunSummary s;
   try {
@@ -201,16 +233,37 @@ int command_run(const RunArgs& a) {
     L.error("frames up to the last complete one are in {}", out.string());
     output.flush_log();
     throw;
+  } catch (const IoError& e) {
+    // A full disk, a file-size limit, a read-only file system: keep what can be kept.
+    progress.finish();
+    L.error("{}", e.what());
+    std::string kept;
+    try {
+      if (last_good) {
+        const fs::path file = write_checkpoint(out, *last_good, 3);
+        kept = fmt::format("; the state of frame {} is in {}: resume with bakesim run --resume {}", last_good->frame,
+                           file.string(), out.string());
+      }
+    } catch (const IoError& again) {
+      L.error("no checkpoint either: {}", again.what());
+    }
+    try {
+      L.error("frames up to the last complete one are in {}{}", out.string(), kept);
+      output.flush_log();
+    } catch (const IoError&) {
+    }
+    throw IoError(std::string(e.what()) + kept);
   }
-  std::signal(SIGINT, SIG_DFL);
-  std::signal(SIGTERM, SIG_DFL);
+  for (const int sig : {SIGINT, SIGTERM, SIGHUP}) std::signal(sig, SIG_DFL);
   if (s.stopped) {
     const int sig = g_stop_signal.load();
     L.warn("stopped by signal {} after frame {}; resume with: bakesim run --resume {}", sig, s.last_frame,
            out.string());
     output.flush_log();
-    fmt::print(stderr, "bakesim: stopped after frame {} (checkpoint written); resume with: bakesim run --resume {}\n",
-               s.last_frame, out.string());
+    fmt::print(
+        stderr,
+        "bakesim: stopped by signal {} after frame {} (checkpoint written); resume with: bakesim run --resume {}\n",
+        sig, s.last_frame, printable(out.string()));
     return 128 + sig;
   }
   L.info("done: {} steps, {} frames, {:.2f} s wall, {:.3g} particle-steps/s", s.steps, s.frames, s.wall_seconds,
@@ -253,6 +306,8 @@ int command_mesh(const MeshArgs& a) {
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
   const RunDirectory run = open_run(a.run_dir);
   if (run.frames.empty()) throw InputError(a.run_dir, "has no particle frames (frames/NNNNN.ply) to mesh");
+  // meshes/ is the run's own folder: not while a run (or another mesh command) writes there.
+  const RunDirectoryLock lock = claim_existing_run(a.run_dir);
   const RunGeometry geometry = run_geometry(run.scene);
   MeshSettings settings;
   settings.surface.method = surface::parse_surface_method(a.method);
@@ -279,11 +334,19 @@ int command_mesh(const MeshArgs& a) {
   return kExitOk;
 }
 
-std::vector<long> parse_counts(const std::string& s) {
+std::vector<long> parse_counts(const std::string& s, const std::string& option) {
   std::vector<long> out;
   std::stringstream ss(s);
   std::string item;
-  while (std::getline(ss, item, ',')) out.push_back(std::stol(item));
+  while (std::getline(ss, item, ',')) {
+    char* end = nullptr;
+    errno = 0;
+    const long v = std::strtol(item.c_str(), &end, 10);
+    if (item.empty() || end != item.c_str() + item.size() || errno == ERANGE || v < 1)
+      throw InputError(option, "expects comma-separated positive whole numbers, got '" + s + "'");
+    out.push_back(v);
+  }
+  if (out.empty()) throw InputError(option, "expects comma-separated positive whole numbers, got nothing");
   return out;
 }
 
@@ -307,8 +370,8 @@ int main(int argc, char** argv) {
       "  bakesim render out/bread-roll --mode particles --color temperature\n"
       "  bakesim plot out/bread-roll                       probe temperatures, volume, height as PNG\n"
       "  bakesim schema --markdown > docs/scene-reference.md\n"
-      "Exit codes: 0 ok, 1 runtime or I/O failure, 2 bad input, 3 simulation failure, 130/143 stopped by "
-      "Ctrl-C/SIGTERM (checkpoint written).");
+      "Exit codes: 0 ok, 1 runtime or I/O failure, 2 bad input, 3 simulation failure, 129/130/143 stopped by "
+      "SIGHUP/Ctrl-C/SIGTERM (checkpoint written).");
 
   RunArgs run_args;
   auto* run = app.add_subcommand("run", "Simulate a scene and write frames, stats.csv and log.txt");
@@ -325,6 +388,9 @@ int main(int argc, char** argv) {
   run->add_option("--threads,-j", run_args.threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 4096));
   run->add_option("--end-time", run_args.end_time, "Override the scene's time.end (s)")->check(CLI::PositiveNumber);
   run->add_flag("--quiet,-q", run_args.quiet, "No progress bar or summary");
+  run->add_flag("--force", run_args.force,
+                "Write into a directory that is not empty or holds another scene's run (bakesim still never replaces "
+                "or deletes files it did not write)");
 
   std::string validate_path;
   auto* validate = app.add_subcommand("validate", "Check a scene and print what it would simulate");
@@ -401,6 +467,10 @@ int main(int argc, char** argv) {
     return code == 0 ? kExitOk : kExitBadInput;
   }
 
+  // A file-size limit (ulimit -f) makes the write fail with EFBIG, reported with the file's name, instead of
+  // killing the process without a word; a closed pipe on stderr does not kill a run either.
+  std::signal(SIGXFSZ, SIG_IGN);
+  std::signal(SIGPIPE, SIG_IGN);
   try {
     if (*run) {
       if (run_args.scene.empty() && run_args.resume.empty())
@@ -429,9 +499,10 @@ int main(int argc, char** argv) {
     }
     if (*bench) {
       if (bench_particles.empty()) bench_particles = bench_opt.solver == "mpm" ? "100000,500000" : "50000,200000";
-      bench_opt.particles = parse_counts(bench_particles);
+      bench_opt.particles = parse_counts(bench_particles, "bench --particles");
       if (!bench_threads.empty())
-        for (long t : parse_counts(bench_threads)) bench_opt.threads.push_back(int(t));
+        for (long t : parse_counts(bench_threads, "bench --threads"))
+          bench_opt.threads.push_back(int(std::min(t, 4096L)));
       bench_opt.searches.clear();
       std::stringstream ss(bench_search);
       std::string item;
@@ -446,13 +517,16 @@ int main(int argc, char** argv) {
       return kExitOk;
     }
   } catch (const InputError& e) {
-    fmt::print(stderr, "bakesim: error: {}\n", e.what());
+    fmt::print(stderr, "bakesim: error: {}\n", printable(e.what()));
     return kExitBadInput;
   } catch (const SimulationError& e) {
-    fmt::print(stderr, "bakesim: simulation failed: {}\n", e.what());
+    fmt::print(stderr, "bakesim: simulation failed: {}\n", printable(e.what()));
     return kExitSimulation;
+  } catch (const std::bad_alloc&) {
+    fmt::print(stderr, "bakesim: error: out of memory (the scene needs more memory than this machine has free)\n");
+    return kExitFailure;
   } catch (const std::exception& e) {
-    fmt::print(stderr, "bakesim: error: {}\n", e.what());
+    fmt::print(stderr, "bakesim: error: {}\n", printable(e.what()));
     return kExitFailure;
   }
   return kExitFailure;

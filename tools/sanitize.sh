@@ -13,8 +13,10 @@ if [ "${1:-}" = "--all" ]; then
   cmake --build build-asan --parallel "$(nproc)"
   cd build-asan && ctest --output-on-failure -j"$(nproc)"
 else
-  cmake --build build-asan --parallel "$(nproc)" --target unit_tests fuzz_scene fuzz_mesh_files
+  cmake --build build-asan --parallel "$(nproc)" --target unit_tests fuzz_scene fuzz_mesh_files fuzz_solver fuzz_checkpoint
   ./build-asan/tests/unit_tests
   ./build-asan/tests/fuzz/fuzz_scene 3000 scenes tests/data tests/fuzz/seeds/scene
   ./build-asan/tests/fuzz/fuzz_mesh_files 3000 scenes/meshes tests/data/meshes tests/fuzz/seeds/ply
+  ./build-asan/tests/fuzz/fuzz_solver 100 scenes tests/data
+  ./build-asan/tests/fuzz/fuzz_checkpoint 1000 tests/fuzz/seeds/checkpoint
 fi

@@ -42,6 +42,11 @@ class Solver {
   virtual std::vector<std::pair<std::string, double>> checkpoint_state() const = 0;
   virtual void restore_state(const std::vector<std::pair<std::string, double>>& state) = 0;
   virtual ParticleSet& particles_for_restore() = 0;
+  // After restore_state(): why the restored particles cannot be this
+  // solver's state (one where its grids cannot hold it, a non-positive mass,
+  // ...; the first offender named), or "" when they can be. A crafted
+  // checkpoint is refused with it instead of crashing the next step.
+  virtual std::string restored_state_problem() const = 0;
 };
 
 }  // namespace bakesim

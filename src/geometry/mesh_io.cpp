@@ -3,6 +3,8 @@
 #include <tiny_obj_loader.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -71,8 +73,32 @@ TriangleMesh load_ply(const std::string& path) {
   return mesh;
 }
 
+// tinyobjloader reads a coordinate it cannot parse ("nan", "1e999", "x") as
+// 0 without a word; every number of every vertex line must be finite (as the
+// PLY reader demands).
+void check_obj_vertices(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  for (long number = 1; std::getline(in, line); ++number) {
+    if (line.size() < 2 || line[0] != 'v' || (line[1] != ' ' && line[1] != '\t')) continue;
+    std::istringstream fields(line.substr(2));
+    std::string field;
+    int count = 0;
+    while (fields >> field) {
+      char* end = nullptr;
+      const double value = std::strtod(field.c_str(), &end);
+      if (end != field.c_str() + field.size() || !std::isfinite(value))
+        throw InputError(path + ":" + std::to_string(number),
+                         "vertex coordinate '" + field.substr(0, 32) + "' is not a finite number");
+      ++count;
+    }
+    if (count < 3) throw InputError(path + ":" + std::to_string(number), "a vertex needs three coordinates");
+  }
+}
+
 TriangleMesh load_obj(const std::string& path) {
   check_readable(path);
+  check_obj_vertices(path);
   tinyobj::ObjReaderConfig cfg;
   cfg.triangulate = true;
   tinyobj::ObjReader reader;

@@ -122,11 +122,16 @@ std::string encode_checkpoint(const Checkpoint& c) {
   for (const auto& a : ps.vectors()) put_bytes(p, std::uint8_t(1)), put_string(p, a.info.name), put_array(p, a.data);
   for (const auto& a : ps.integers()) put_bytes(p, std::uint8_t(2)), put_string(p, a.info.name), put_array(p, a.data);
   put_array(p, c.follow_ids);
+  return seal_checkpoint_payload(p);
+}
+
+std::string seal_checkpoint_payload(std::string_view payload) {
   std::string out(kMagic, kMagicSize);
   put_bytes(out, kCheckpointVersion);
-  put_bytes(out, std::uint64_t(p.size()));
-  put_bytes(out, fnv1a(p.data(), p.size()));
-  return out + p;
+  put_bytes(out, std::uint64_t(payload.size()));
+  put_bytes(out, fnv1a(payload.data(), payload.size()));
+  out.append(payload);
+  return out;
 }
 
 Checkpoint decode_checkpoint(const std::string& b, const std::string& where) {
@@ -196,10 +201,10 @@ Checkpoint capture_checkpoint(const Solver& solver) {
 void validate_checkpoint(const ParticleSet& fresh, const Checkpoint& c, const std::string& where) {
   auto refuse = [&](const std::string& why) { throw InputError(where, "checkpoint refused: " + why); };
   if (c.frame < 0 || c.frame > 1000000) refuse(fmt::format("frame {} out of range", c.frame));
-  if (c.steps < 0) refuse(fmt::format("step count {} out of range", c.steps));
+  if (c.steps < 0 || c.steps > 1e15) refuse(fmt::format("step count {} out of range", c.steps));
   if (!std::isfinite(c.last_dt) || c.last_dt < 0) refuse("time step not a finite non-negative number");
   for (const auto& [name, value] : c.solver_state)  // heat totals may be negative (a cooling body)
-    if (!std::isfinite(value) || ((name == "time" || name == "steps") && value < 0))
+    if (!std::isfinite(value) || ((name == "time" || name == "steps") && !(value >= 0 && value <= 1e15)))
       refuse(fmt::format("solver state '{}' = {} out of range", name, value));
   const ParticleSet& p = c.particles;
   if (p.size() != fresh.size()) refuse(fmt::format("{} particles, the scene makes {}", p.size(), fresh.size()));
@@ -251,16 +256,25 @@ void restore_checkpoint(Solver& solver, const Checkpoint& c, const std::string& 
     throw InputError(where, std::string("checkpoint attributes do not match the solver's: ") + e.what());
   }
   solver.restore_state(c.solver_state);
+  if (const std::string problem = solver.restored_state_problem(); !problem.empty())
+    throw InputError(where, "checkpoint refused: " + problem);
 }
 
 fs::path write_checkpoint(const fs::path& run_dir, const Checkpoint& c, int keep) {
   const fs::path dir = run_dir / "checkpoints";
   ensure_directory(dir);
-  const fs::path file = dir / fmt::format("{:05d}.ckpt", c.frame);
+  const fs::path file = dir / (frame_stem(c.frame) + ".ckpt");
   write_file_atomic(file, encode_checkpoint(c));
-  const auto all = list_checkpoints(run_dir);
+  // The one just written and the newest `keep` - 1 before it stay. Files numbered past it are
+  // not this run's (a run directory starts clean) and are left alone.
+  std::size_t kept = 0;
   std::error_code ec;
-  for (std::size_t i = std::size_t(std::max(keep, 1)); i < all.size(); ++i) fs::remove(all[i], ec);
+  for (const fs::path& old : list_checkpoints(run_dir)) {
+    const auto number = frame_number(old.stem().string());
+    if (!number || *number > c.frame) continue;
+    if (++kept > std::size_t(std::max(keep, 1)) && fs::is_regular_file(fs::symlink_status(old, ec)))
+      fs::remove(old, ec);
+  }
   return file;
 }
 
@@ -269,10 +283,13 @@ std::vector<fs::path> list_checkpoints(const fs::path& run_dir) {
   const fs::path dir = run_dir / "checkpoints";
   std::error_code ec;
   if (!fs::is_directory(dir, ec)) return out;
+  std::vector<std::pair<int, fs::path>> numbered;
   for (const auto& e : fs::directory_iterator(dir, ec))
-    if (e.path().extension() == ".ckpt") out.push_back(e.path());
-  std::sort(out.begin(), out.end(),
-            [](const fs::path& a, const fs::path& b) { return a.filename().string() > b.filename().string(); });
+    if (const auto number = frame_number(e.path().stem().string()); number && e.path().extension() == ".ckpt")
+      numbered.emplace_back(*number, e.path());
+  // By frame number, not by name: "100000" sorts before "99999".
+  std::sort(numbered.begin(), numbered.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  for (auto& [number, path] : numbered) out.push_back(std::move(path));
   return out;
 }
 

@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -40,6 +41,11 @@ struct Checkpoint {
 std::string scene_fingerprint(const nlohmann::json& resolved_scene);
 
 std::string encode_checkpoint(const Checkpoint& checkpoint);
+// The header (magic, version, size, checksum) in front of a payload; the
+// checkpoint fuzz target seals crafted payloads with it to reach the checks
+// that come after the checksum.
+inline constexpr std::size_t kCheckpointHeaderBytes = 32;
+std::string seal_checkpoint_payload(std::string_view payload);
 Checkpoint decode_checkpoint(const std::string& bytes, const std::string& where);
 
 // Captures a solver's state; restores it into a solver built from the same scene.

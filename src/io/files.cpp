@@ -15,12 +15,44 @@ namespace bakesim {
 
 namespace fs = std::filesystem;
 
-std::string read_file(const fs::path& p) {
+std::string read_file(const fs::path& p, std::uintmax_t max_bytes) {
+  std::error_code ec;
+  const auto status = fs::status(p, ec);
+  if (!fs::exists(status)) throw InputError(p.string(), "not found");
+  if (!fs::is_regular_file(status))
+    throw InputError(p.string(), fs::is_directory(status) ? "is a directory, not a file"
+                                                          : "is not a regular file (a FIFO, socket or device)");
+  const std::uintmax_t size = fs::file_size(p, ec);
+  if (!ec && size > max_bytes)
+    throw InputError(p.string(), "is " + std::to_string(size) + " bytes, more than the " + std::to_string(max_bytes) +
+                                     " this file may have");
   std::ifstream in(p, std::ios::binary);
   if (!in) throw InputError(p.string(), "cannot be read");
   std::ostringstream ss;
   ss << in.rdbuf();
   return ss.str();
+}
+
+void append_file(const fs::path& path, std::string_view bytes) {
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
+  if (fd < 0) throw IoError(path.string() + ": cannot write: " + std::strerror(errno));
+  std::size_t done = 0;
+  while (done < bytes.size()) {
+    const ssize_t w = ::write(fd, bytes.data() + done, bytes.size() - done);
+    if (w < 0 && errno == EINTR) continue;
+    if (w < 0) {
+      const int err = errno;
+      ::close(fd);
+      throw IoError(path.string() + ": write failed: " + std::strerror(err));
+    }
+    done += static_cast<std::size_t>(w);
+  }
+  if (::fdatasync(fd) != 0 && errno != EINVAL) {
+    const int err = errno;
+    ::close(fd);
+    throw IoError(path.string() + ": write failed: " + std::strerror(err));
+  }
+  if (::close(fd) != 0) throw IoError(path.string() + ": write failed: " + std::strerror(errno));
 }
 
 void ensure_directory(const fs::path& dir) {
@@ -85,6 +117,21 @@ void write_file_atomic(const fs::path& path, std::string_view bytes) {
   fd = -1;
   if (closed != 0) fail("write failed");
   if (::rename(tmp.c_str(), path.c_str()) != 0) fail("cannot rename into place");
+}
+
+std::string frame_stem(int frame) {
+  std::string s = std::to_string(frame);
+  return s.size() < 5 ? std::string(5 - s.size(), '0') + s : s;
+}
+
+std::optional<int> frame_number(const std::string& stem) {
+  if (stem.empty() || stem.size() > 9) return std::nullopt;
+  int n = 0;
+  for (const char c : stem) {
+    if (c < '0' || c > '9') return std::nullopt;
+    n = n * 10 + (c - '0');
+  }
+  return n;
 }
 
 }  // namespace bakesim

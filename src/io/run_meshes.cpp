@@ -122,7 +122,7 @@ surface::SurfaceMesh frame_mesh(const ParticleSet& ps, const RunGeometry& run, c
 
 void write_frame_mesh(const fs::path& dir, int frame, const surface::SurfaceMesh& mesh, const MeshSettings& settings) {
   ensure_directory(dir);
-  const std::string stem = fmt::format("{:05d}", frame);
+  const std::string stem = frame_stem(frame);
   if (settings.ply) write_file_atomic(dir / (stem + ".ply"), encode_mesh_ply(mesh));
   if (settings.obj) {
     const std::string palette = colour_palette(settings.colour) == surface::Palette::baking ? "baking" : "heat";
@@ -149,9 +149,7 @@ RunDirectory open_run(const fs::path& dir) {
     for (const auto& entry : fs::directory_iterator(dir / "frames")) {
       const fs::path& p = entry.path();
       if (p.extension() != ".ply") continue;
-      const std::string stem = p.stem().string();
-      if (stem.empty() || !std::all_of(stem.begin(), stem.end(), [](char c) { return c >= '0' && c <= '9'; })) continue;
-      r.frames[std::stoi(stem)] = p;
+      if (const auto number = frame_number(p.stem().string())) r.frames[*number] = p;
     }
   return r;
 }

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "core/errors.hpp"
 #include "core/quantity.hpp"
@@ -32,15 +33,26 @@ RunLog::RunLog(bool echo_to_stderr) : stream_(std::make_shared<std::ostringstrea
   logger_->set_level(spdlog::level::debug);
 }
 
-void RunLog::write_to(const fs::path& file) {
+void RunLog::append_to(const fs::path& file) {
   logger_->flush();
-  write_file_atomic(file, stream_->str());
+  const std::string lines = stream_->str();
+  if (lines.empty()) return;
+  append_file(file, lines);
+  stream_->str("");
 }
 
 namespace {
 std::string num(double v) {
   if (std::isnan(v)) return "nan";
   return fmt::format("{:.9g}", v);
+}
+
+// A number written by this program ("nan" aside); nullopt for anything else.
+std::optional<double> parse_number(const std::string& s) {
+  char* end = nullptr;
+  const double v = std::strtod(s.c_str(), &end);
+  if (s.empty() || end != s.c_str() + s.size()) return std::nullopt;
+  return v;
 }
 
 // Unit vector against gravity (the loaf's "up"); +y without gravity.
@@ -56,7 +68,6 @@ RunOutput::RunOutput(fs::path dir, const Scene& scene, const Solver& solver, Run
   ensure_directory(dir_);
   ensure_directory(dir_ / "frames");
   write_file_atomic(dir_ / "scene.json", scene_.resolved.dump(2) + "\n");
-  stats_ = stats_header() + "\n";
   const auto& mesh = scene_.resolved["output"]["mesh"];
   if (mesh["enabled"].get<bool>()) {
     mesh_ = mesh_settings(mesh);
@@ -83,7 +94,7 @@ std::string RunOutput::stats_header() const {
 
 void RunOutput::on_frame(const FrameInfo& info, const Solver& solver) {
   const ParticleSet& ps = solver.particles();
-  const std::string stem = fmt::format("{:05d}", info.frame);
+  const std::string stem = frame_stem(info.frame);
   const bool write_particles =
       info.frame % scene_.output.every_frames == 0 || info.frame == 0 || info.time >= scene_.end_time - 1e-12;
   if (write_particles) {
@@ -101,12 +112,12 @@ void RunOutput::on_frame(const FrameInfo& info, const Solver& solver) {
     if (mesh_) write_frame_mesh(dir_ / "meshes", info.frame, frame_mesh(ps, geometry_, *mesh_), *mesh_);
   }
   const auto extra = solver.frame_quantities();
-  if (!extra_header_written_) {
+  if (!header_written_) {
     // Solver-specific columns (MPM: the mixture's water and heat totals) join the header on the first frame.
     std::string names;
     for (const auto& [name, value] : extra) names += "," + name;
-    stats_ = stats_header() + names + "\n";
-    extra_header_written_ = true;
+    write_file_atomic(dir_ / "stats.csv", stats_header() + names + "\n");
+    header_written_ = true;
   }
   const FrameStats s = compute_frame_stats(ps);
   const Real bake_time = scene_.oven.bake_time(info.time);
@@ -153,38 +164,45 @@ void RunOutput::on_frame(const FrameInfo& info, const Solver& solver) {
         for (Real v : bake_->values(bake[b])) row += "," + num(v);
   }
   for (const auto& [name, value] : extra) row += "," + num(value);
-  stats_ += row + "\n";
-  write_file_atomic(dir_ / "stats.csv", stats_);
+  // One row appended per frame: the cost of a frame does not grow with the run.
+  append_file(dir_ / "stats.csv", row + "\n");
   flush_log();
 }
 
-void RunOutput::flush_log() { log_.write_to(dir_ / "log.txt"); }
+void RunOutput::flush_log() { log_.append_to(dir_ / "log.txt"); }
 
 void RunOutput::resume_after(int frame, std::vector<std::int32_t> follow_ids) {
   follow_ids_ = std::move(follow_ids);
-  // stats.csv: the header and one row per frame 0..frame.
-  std::ifstream in(dir_ / "stats.csv");
-  std::string line, kept;
-  if (std::getline(in, line)) kept = line + "\n";
-  int rows = 0;
-  while (rows <= frame && std::getline(in, line)) {
-    kept += line + "\n";
-    ++rows;
+  // stats.csv: the header and one row per frame 0..frame (complete lines only:
+  // a killed run may have left the last one unfinished).
+  const fs::path stats = dir_ / "stats.csv";
+  const std::string text = read_file(stats);
+  std::string kept;
+  const long lines_wanted = long(frame) + 2;  // the header and frames 0..frame
+  long lines = 0;
+  for (std::size_t at = 0; lines < lines_wanted; ++lines) {
+    const std::size_t end = text.find('\n', at);
+    if (end == std::string::npos) break;
+    kept.append(text, at, end + 1 - at);
+    at = end + 1;
   }
-  if (rows <= frame)
-    throw InputError((dir_ / "stats.csv").string(),
-                     fmt::format("has {} frames, the checkpoint is at frame {}", rows, frame));
-  stats_ = kept;
-  extra_header_written_ = true;
+  if (lines < lines_wanted)
+    throw InputError(stats.string(),
+                     fmt::format("has {} frames, the checkpoint is at frame {}", std::max(0L, lines - 1), frame));
+  header_written_ = true;
   // particles.pvd: entries of frames up to `frame`, read back from the file.
   pvd_.clear();
   std::ifstream pvd(dir_ / "particles.pvd");
+  std::string line;
   while (std::getline(pvd, line)) {
     const auto t = line.find("timestep=\""), f = line.find("file=\"frames/");
     if (t == std::string::npos || f == std::string::npos) continue;
-    const double time = std::stod(line.substr(t + 10));
-    const std::string file = line.substr(f + 6, line.find('"', f + 6) - (f + 6));
-    if (std::stoi(fs::path(file).stem().string()) <= frame) pvd_.push_back({time, file});
+    const std::size_t close = line.find('"', f + 6);
+    if (close == std::string::npos) continue;
+    const std::string file = line.substr(f + 6, close - (f + 6));
+    const auto time = parse_number(line.substr(t + 10, line.find('"', t + 10) - (t + 10)));
+    const auto number = frame_number(fs::path(file).stem().string());
+    if (time && number && *number <= frame) pvd_.push_back({*time, file});
   }
   if (!pvd_.empty()) write_file_atomic(dir_ / "particles.pvd", encode_pvd(pvd_));
   // Half-written temporaries of the stopped run (killed in the middle of a write).
@@ -194,15 +212,12 @@ void RunOutput::resume_after(int frame, std::vector<std::int32_t> follow_ids) {
     std::error_code ec;
     if (!fs::is_directory(dir_ / sub, ec)) continue;
     std::vector<fs::path> stale;
-    for (const auto& e : fs::directory_iterator(dir_ / sub, ec)) {
-      const std::string stem = e.path().stem().string();
-      if (stem.size() == 5 && std::all_of(stem.begin(), stem.end(), [](char c) { return c >= '0' && c <= '9'; }) &&
-          std::stoi(stem) > frame)
+    for (const auto& e : fs::directory_iterator(dir_ / sub, ec))
+      if (const auto number = frame_number(e.path().stem().string()); number && *number > frame)
         stale.push_back(e.path());
-    }
     for (const auto& p : stale) fs::remove(p, ec);
   }
-  write_file_atomic(dir_ / "stats.csv", stats_);
+  write_file_atomic(stats, kept);
 }
 
 }  // namespace bakesim

@@ -4,9 +4,12 @@
 //   frames/NNNNN.ply    binary PLY per written frame
 //   frames/NNNNN.vtu    VTK XML per written frame, with particles.pvd listing them
 //   meshes/NNNNN.*      surface meshes of written frames when output.mesh.enabled
-//   stats.csv           one row per frame
-//   log.txt             the run's log
-// Every file is written atomically (temporary name, then rename).
+//   stats.csv           one row per frame, appended (and flushed) per frame
+//   log.txt             the run's log, appended per frame
+// Every other file is written atomically (temporary name, then rename). A
+// crash can leave stats.csv or log.txt with an unfinished last line, never an
+// earlier line damaged; readers skip a last line without its newline, and a
+// resume cuts stats.csv back to its checkpoint's frame.
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -24,13 +27,14 @@
 
 namespace bakesim {
 
-// A logger that keeps its text for log.txt and optionally echoes to stderr.
+// A logger that keeps its lines for log.txt until they are appended there,
+// and optionally echoes warnings to stderr.
 class RunLog {
  public:
   explicit RunLog(bool echo_to_stderr);
   spdlog::logger& logger() { return *logger_; }
-  std::string text() const { return stream_->str(); }
-  void write_to(const std::filesystem::path& file);
+  // Appends the lines logged since the last call to `file`.
+  void append_to(const std::filesystem::path& file);
 
  private:
   std::shared_ptr<std::ostringstream> stream_;
@@ -57,8 +61,7 @@ class RunOutput final : public FrameObserver {
   std::filesystem::path dir_;
   const Scene& scene_;
   RunLog& log_;
-  std::string stats_;
-  bool extra_header_written_ = false;
+  bool header_written_ = false;
   std::vector<PvdEntry> pvd_;
   std::optional<MeshSettings> mesh_;  // output.mesh.enabled: mesh each written frame
   RunGeometry geometry_;

@@ -5,10 +5,13 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
+#include <vector>
 
 #include "core/errors.hpp"
 #include "core/quantity.hpp"
+#include "io/files.hpp"
 #include "io/scene_parts.hpp"
 #include "io/schema.hpp"
 
@@ -59,6 +62,56 @@ void apply_material_presets(json& doc) {
   }
 }
 
+// Duplicate keys in one object are refused with their key path (nlohmann keeps
+// the last silently, so a value typed twice would quietly lose the first).
+class DuplicateKeyCheck {
+ public:
+  explicit DuplicateKeyCheck(std::string file) : file_(std::move(file)) {}
+  bool operator()(int /*depth*/, json::parse_event_t event, json& parsed) {
+    switch (event) {
+      case json::parse_event_t::object_start:
+      case json::parse_event_t::array_start:
+        next_element();
+        stack_.push_back({event == json::parse_event_t::object_start, {}, -1, {}});
+        break;
+      case json::parse_event_t::object_end:
+      case json::parse_event_t::array_end:
+        if (!stack_.empty()) stack_.pop_back();
+        break;
+      case json::parse_event_t::key:
+        if (!stack_.empty()) {
+          Level& top = stack_.back();
+          top.key = parsed.get<std::string>();
+          if (!top.keys.insert(top.key).second)
+            throw InputError(file_, path() +
+                                        ": duplicate key (each key may appear once in an object; the "
+                                        "second would silently replace the first)");
+        }
+        break;
+      case json::parse_event_t::value: next_element(); break;
+    }
+    return true;
+  }
+
+ private:
+  struct Level {
+    bool object;
+    std::string key;  // objects: the current key
+    long index;       // arrays: the current element
+    std::set<std::string> keys;
+  };
+  void next_element() {
+    if (!stack_.empty() && !stack_.back().object) ++stack_.back().index;
+  }
+  std::string path() const {
+    std::string p;
+    for (const Level& l : stack_) p += l.object ? (p.empty() ? "" : ".") + l.key : fmt::format("[{}]", l.index);
+    return p;
+  }
+  std::string file_;
+  std::vector<Level> stack_;
+};
+
 }  // namespace
 
 // A scene is read in three steps: the schema validates the document and fills
@@ -68,7 +121,7 @@ void apply_material_presets(json& doc) {
 Scene parse_scene(const std::string& text, const std::string& file, const std::string& base_dir) {
   json doc;
   try {
-    doc = json::parse(text, nullptr, true, /*ignore_comments=*/true);
+    doc = json::parse(text, DuplicateKeyCheck(file), true, /*ignore_comments=*/true);
   } catch (const json::parse_error& e) {
     const auto [line, col] = line_column(text, e.byte);
     std::string msg = e.what();
@@ -92,6 +145,8 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::s
     sc.name = fs::path(file).stem().string();
     doc["name"] = sc.name;
   }
+  for (const unsigned char ch : sc.name)
+    if (ch < 0x20 || ch == 0x7f) c.fail("name", "must not contain control characters (the name is printed)");
   sc.description = doc["description"].get<std::string>();
   sc.solver_type = doc["solver"]["type"].get<std::string>();
   if (!doc["solver"].contains(sc.solver_type))
@@ -136,12 +191,10 @@ Scene load_scene(const std::string& path) {
   std::error_code ec;
   if (!fs::exists(path, ec)) throw InputError(path, "scene file not found");
   if (fs::is_directory(path, ec)) throw InputError(path, "is a directory, not a scene file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path, "scene file cannot be opened for reading");
-  std::ostringstream ss;
-  ss << in.rdbuf();
+  // A scene is text written by hand or by a script: 64 MiB is far beyond any real one.
+  const std::string text = read_file(path, std::uintmax_t(64) << 20);
   const std::string dir = fs::path(path).parent_path().string();
-  return parse_scene(ss.str(), path, dir.empty() ? "." : dir);
+  return parse_scene(text, path, dir.empty() ? "." : dir);
 }
 
 std::unique_ptr<Solver> make_solver(const Scene& scene) {

@@ -116,10 +116,21 @@ RigidMotion build_motion(const Ctx& c, const std::string& path, const json& m) {
   return RigidMotion(vec3(m["pivot"]), std::move(keys));
 }
 
+void check_name_characters(const Ctx& c, const std::string& path, const std::string& name) {
+  // Names head stats.csv columns and reach the terminal and the log: no commas,
+  // quotes or control characters (a newline split the header, and a resume lost rows).
+  for (const unsigned char ch : name)
+    if (ch < 0x20 || ch == 0x7f || ch == ',' || ch == '"')
+      c.fail(path,
+             "must not contain commas, double quotes or control characters (names head stats.csv columns "
+             "and are printed)");
+}
+
 void check_unique_names(const Ctx& c, const json& list, const std::string& key) {
   std::set<std::string> seen;
   for (std::size_t i = 0; i < list.size(); ++i) {
     const std::string n = list[i]["name"].get<std::string>();
+    check_name_characters(c, fmt::format("{}[{}].name", key, i), n);
     if (!seen.insert(n).second) c.fail(fmt::format("{}[{}].name", key, i), "duplicate name '" + n + "'");
   }
 }
@@ -210,7 +221,10 @@ IrreversibleSetting build_setting(const json& material) {
 
 SceneParts read_common(const Ctx& c, const json& doc, FrictionModel solver_friction) {
   SceneParts parts;
-  for (auto it = doc["materials"].begin(); it != doc["materials"].end(); ++it) parts.material_names.push_back(it.key());
+  for (auto it = doc["materials"].begin(); it != doc["materials"].end(); ++it) {
+    check_name_characters(c, "materials." + it.key(), it.key());
+    parts.material_names.push_back(it.key());
+  }
   check_unique_names(c, doc["bodies"], "bodies");
   check_unique_names(c, doc["colliders"], "colliders");
   check_unique_names(c, doc["probes"], "probes");
@@ -225,14 +239,7 @@ SceneParts read_common(const Ctx& c, const json& doc, FrictionModel solver_frict
     const json& b = doc["bodies"][i];
     const std::string path = fmt::format("bodies[{}]", i);
     BodyBase body;
-    body.name = b["name"].get<std::string>();
-    // Body names head stats.csv columns and reach the terminal: no commas,
-    // quotes or control characters (a newline split the header, and a resume lost rows).
-    for (const unsigned char ch : body.name)
-      if (ch < 0x20 || ch == 0x7f || ch == ',' || ch == '"')
-        c.fail(path + ".name",
-               "must not contain commas, double quotes or control characters (it names stats.csv "
-               "columns)");
+    body.name = b["name"].get<std::string>();  // its characters checked by check_unique_names
     body.source = c.file + ": " + path;
     const std::string mname = b["material"].get<std::string>();
     const auto& names = parts.material_names;

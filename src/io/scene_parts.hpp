@@ -38,6 +38,8 @@ Shape build_shape(const Ctx& c, const std::string& path, const json& s);
 // Mesh colliders index their triangles at `cell`.
 ColliderGeometry build_collider_geometry(const Ctx& c, const std::string& path, const json& s, Real cell);
 RigidMotion build_motion(const Ctx& c, const std::string& path, const json& m);
+// Names (of the scene, bodies, colliders, probes, materials) hold no commas, quotes or control characters.
+void check_name_characters(const Ctx& c, const std::string& path, const std::string& name);
 void check_unique_names(const Ctx& c, const json& list, const std::string& key);
 TemperatureCurve build_curve(const Ctx& c, const std::string& path, const json& j);
 PiecewiseLinear build_schedule(const Ctx& c, const std::string& path, const json& j);

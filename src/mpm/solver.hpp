@@ -40,6 +40,7 @@ class MpmSolver final : public Solver {
   const ParticleSet& particles() const override { return particles_; }
   std::vector<std::pair<std::string, double>> checkpoint_state() const override;
   void restore_state(const std::vector<std::pair<std::string, double>>& state) override;
+  std::string restored_state_problem() const override;
   ParticleSet& particles_for_restore() override { return particles_; }
   ParticleSet& mutable_particles() { return particles_; }
   const PhaseTimers& timers() const override { return timers_; }

@@ -121,7 +121,7 @@ RenderRunResult render_run(const fs::path& run_dir, const RenderRunOptions& o) {
       pv.radius = 0.5 * geometry.spacing;
       img = render_particles(pv, settings, text, &bar, caption);
     }
-    const fs::path file = out_dir / fmt::format("{}-{:05d}.png", stem, f);
+    const fs::path file = out_dir / (stem + "-" + frame_stem(f) + ".png");
     write_file_atomic(file, encode_png(img));
     result.images.push_back(file);
   }

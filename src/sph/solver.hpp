@@ -52,6 +52,7 @@ class SphSolver final : public Solver {
   const ParticleSet& particles() const override { return particles_; }
   std::vector<std::pair<std::string, double>> checkpoint_state() const override;
   void restore_state(const std::vector<std::pair<std::string, double>>& state) override;
+  std::string restored_state_problem() const override;
   ParticleSet& particles_for_restore() override { return particles_; }
   const PhaseTimers& timers() const override { return timers_; }
   std::vector<Real> sample(const Vec3& x, const std::vector<std::string>& quantities) const override;

@@ -436,6 +436,10 @@ TEST(Checkpoint, CraftedContentsAreRefusedAfterTheChecksum) {
   expect_refused([](Checkpoint& c) { c.particles.integer("body_id")[1] = -1; }, "body id");
   expect_refused([](Checkpoint& c) { c.particles.integer("id")[2] = c.particles.integer("id")[3]; }, "duplicate id");
   expect_refused([](Checkpoint& c) { c.frame = -1; }, "negative frame");
+  // Finite but where the solver's grids cannot hold it (the MPM one crashed P2G: found by fuzz_checkpoint).
+  expect_refused([](Checkpoint& c) { c.particles.vector("position")[0] = Vec3(5, 5, 5); }, "position outside");
+  expect_refused([](Checkpoint& c) { c.particles.scalar("mass")[0] = -1; }, "negative mass");
+  expect_refused([](Checkpoint& c) { c.steps = long(1e18); }, "step count past any run");
   expect_refused(
       [](Checkpoint& c) {
         for (auto& [name, value] : c.solver_state)
@@ -443,4 +447,31 @@ TEST(Checkpoint, CraftedContentsAreRefusedAfterTheChecksum) {
       },
       "NaN time");
   expect_refused([](Checkpoint& c) { c.particles.resize(c.particles.size() - 1); }, "a particle missing");
+}
+
+// Issue 21: nlohmann keeps the last of two equal keys silently; a value typed twice must not lose the first.
+TEST(Scene, DuplicateKeysAreRefusedWithTheirPath) {
+  std::string text = base_scene().dump();
+  text.replace(text.find("\"material\":\"water\""), std::string("\"material\":\"water\"").size(),
+               "\"material\":\"water\",\"name\":\"again\"");
+  expect_text_error(text, {"scene.json", "bodies[0].name", "duplicate key"});
+  expect_text_error(R"({"time": {"end": 1}, "time": {"end": 2}})", {"scene.json: time: duplicate key"});
+  // Equal keys in different objects are fine.
+  json two = base_scene();
+  two["bodies"].push_back(two["bodies"][0]);
+  two["bodies"][1]["name"] = "second";
+  two["bodies"][1]["shape"] = {{"type", "box"}, {"min", {0.1, 0.1, 0.1}}, {"max", {0.15, 0.15, 0.15}}};
+  EXPECT_NO_THROW(parse_scene(two.dump(), "scene.json", "."));
+}
+
+TEST(Scene, NamesThatReachTheTerminalHoldNoControlCharacters) {
+  json s = base_scene();
+  s["name"] = "loaf\x1b[2J";
+  expect_error(s, {"name", "control characters"});
+  json p = base_scene();
+  p["probes"] = json::array({{{"name", "core,1"}, {"position", {0.05, 0.05, 0.05}}}});
+  expect_error(p, {"probes[0].name"});  // the schema allows letters, digits, _ . - only
+  json m = base_scene();
+  m["materials"]["wa\nter"] = m["materials"]["water"];
+  expect_error(m, {"control characters"});
 }

@@ -227,7 +227,9 @@ TEST(MpmGrid, BlocksOfOneColourNeverShareANodeAndTheOrderIsAPermutation) {
             for (int k = 0; k < 3; ++k) {
               const std::size_t node = (std::size_t(ax.base + i) * n + (ay.base + j)) * n + (az.base + k);
               auto [it, fresh] = owner.try_emplace(node, colour, block);
-              if (!fresh && it->second.first == colour) EXPECT_EQ(it->second.second, block) << "node " << node;
+              if (!fresh && it->second.first == colour) {
+                EXPECT_EQ(it->second.second, block) << "node " << node;
+              }
               if (!fresh) it->second = {colour, block};
             }
       });

@@ -41,4 +41,21 @@ void MpmSolver::check_state() {
                   v_[bad].z(), j_[bad], temperature_[bad], water_[bad]));
 }
 
+// P2G's quadratic stencil reaches one cell below and above a point: points
+// must lie a cell inside the domain (the solver itself keeps them two cells in).
+std::string MpmSolver::restored_state_problem() const {
+  const Vec3 lo = setup_.domain.min + Vec3::Constant(dx_), hi = setup_.domain.max - Vec3::Constant(dx_);
+  for (std::size_t i = 0; i < x_.size(); ++i) {
+    const char* what = !((x_[i].array() >= lo.array()).all() && (x_[i].array() <= hi.array()).all())
+                           ? "a position outside the grid's reach (a cell inside the domain)"
+                       : !(j_[i] > 0)       ? "a volume ratio J <= 0"
+                       : !(m_[i] > 0)       ? "a mass <= 0"
+                       : !(volume0_[i] > 0) ? "an initial volume <= 0"
+                       : !(water_[i] >= 0)  ? "a negative water mass"
+                                            : nullptr;
+    if (what) return fmt::format("particle entry {} (id {}) has {}", i, id_[i], what);
+  }
+  return {};
+}
+
 }  // namespace bakesim::mpm

@@ -50,4 +50,21 @@ void SphSolver::check_finite() {
                   count ? ": " : "", neighbours));
 }
 
+// The neighbour grid covers the domain with cells of the largest support
+// radius: positions inside it, support radii within the adaptive limits.
+std::string SphSolver::restored_state_problem() const {
+  const AdaptiveSmoothing& a = setup_.settings.adaptive;
+  const Real h_lo = (adaptive_ ? a.min_ratio : 1.0) * h_ * (1 - 1e-9),
+             h_hi = (adaptive_ ? a.max_ratio : 1.0) * h_ * (1 + 1e-9);
+  for (std::size_t i = 0; i < x_.size(); ++i) {
+    const char* what = !setup_.domain.contains(x_[i])                      ? "a position outside the domain"
+                       : !(m_[i] > 0)                                      ? "a mass <= 0"
+                       : !(rho_[i] > 0)                                    ? "a density <= 0"
+                       : !(smoothing_[i] >= h_lo && smoothing_[i] <= h_hi) ? "a support radius outside its limits"
+                                                                           : nullptr;
+    if (what) return fmt::format("particle entry {} (id {}) has {}", i, id_[i], what);
+  }
+  return {};
+}
+
 }  // namespace bakesim::sph
