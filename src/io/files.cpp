@@ -69,7 +69,9 @@ fs::path temporary_for(const fs::path& path) {
   return path.parent_path() / ("." + path.filename().string() + kTemporaryMark + std::to_string(::getpid()));
 }
 
-bool is_temporary(const std::string& name) {
+}  // namespace
+
+bool is_atomic_temporary(const std::string& name) {
   const std::size_t mark = name.rfind(kTemporaryMark);
   if (name.empty() || name[0] != '.' || mark == std::string::npos || mark + kTemporaryMark.size() == name.size())
     return false;
@@ -77,14 +79,12 @@ bool is_temporary(const std::string& name) {
     if (name[i] < '0' || name[i] > '9') return false;
   return true;
 }
-}  // namespace
 
 int remove_atomic_temporaries(const fs::path& dir) {
   std::error_code ec;
   std::vector<fs::path> found;
-  for (auto it = fs::recursive_directory_iterator(dir, ec); !ec && it != fs::recursive_directory_iterator();
-       it.increment(ec))
-    if (it->is_regular_file(ec) && is_temporary(it->path().filename().string())) found.push_back(it->path());
+  for (auto it = fs::directory_iterator(dir, ec); !ec && it != fs::directory_iterator(); it.increment(ec))
+    if (it->is_regular_file(ec) && is_atomic_temporary(it->path().filename().string())) found.push_back(it->path());
   int removed = 0;
   for (const auto& p : found) removed += fs::remove(p, ec) ? 1 : 0;
   return removed;

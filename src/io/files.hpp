@@ -12,8 +12,10 @@ namespace bakesim {
 // Throws IoError naming the path when the directory is unwritable or full.
 void write_file_atomic(const std::filesystem::path& path, std::string_view bytes);
 // Removes the temporaries write_file_atomic leaves when its process is killed
-// mid-write (".NAME.tmpPID"), anywhere below `dir`; returns how many.
+// mid-write (".NAME.tmpPID") in `dir` itself (not below it); returns how many.
 int remove_atomic_temporaries(const std::filesystem::path& dir);
+// Whether a file name is such a temporary.
+bool is_atomic_temporary(const std::string& name);
 // Appends `bytes` and flushes them to the disk (a crash loses at most the
 // line being written); throws IoError naming the path on failure.
 void append_file(const std::filesystem::path& path, std::string_view bytes);

@@ -31,12 +31,6 @@ bool ends_with(const std::string& s, const std::string& suffix) {
   return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
-// ".NAME.tmpPID", what write_file_atomic leaves when killed mid-write.
-bool is_temporary_name(const std::string& name) {
-  const std::size_t mark = name.rfind(".tmp");
-  return name.size() > 1 && name[0] == '.' && mark != std::string::npos && all_digits(name.substr(mark + 4));
-}
-
 // The top-level entries a run writes (subdirectories hold only the files is_run_file names).
 const std::vector<std::string>& run_entries() {
   static const std::vector<std::string> names{"scene.json",  "stats.csv", "log.txt", "particles.pvd", "frames",
@@ -148,7 +142,7 @@ std::vector<std::string> move_run_aside(const fs::path& dir) {
       throw IoError(fmt::format("{}: cannot move into {}: {}", (dir / name).string(), previous.string(), ec.message()));
     moved.push_back(name);
   }
-  remove_atomic_temporaries(dir);  // only ".NAME.tmpPID" files, each a half-written file of bakesim's
+  remove_run_temporaries(dir);
   return moved;
 }
 
@@ -158,7 +152,7 @@ bool is_run_file(const fs::path& relative) {
   const std::string dir = relative.has_parent_path() ? relative.parent_path().string() : "";
   const std::string name = relative.filename().string();
   const std::string stem = relative.stem().string(), ext = relative.extension().string();
-  if (is_temporary_name(name)) return true;
+  if (is_atomic_temporary(name)) return true;
   if (dir.empty())
     return name != "frames" && name != "checkpoints" && name != "meshes" && name != "render" && name != "plots" &&
            std::find(run_entries().begin(), run_entries().end(), name) != run_entries().end();
@@ -170,6 +164,15 @@ bool is_run_file(const fs::path& relative) {
   if (dir == "render") return ext == ".png" || ends_with(name, ".mp4") || ends_with(name, ".ffconcat.txt");
   if (dir == "plots") return ext == ".png";
   return false;
+}
+
+int remove_run_temporaries(const fs::path& dir) {
+  int removed = remove_atomic_temporaries(dir);
+  for (const char* sub : {"frames", "checkpoints", "meshes", "render", "plots"}) {
+    std::error_code ec;
+    if (fs::is_directory(fs::symlink_status(dir / sub, ec))) removed += remove_atomic_temporaries(dir / sub);
+  }
+  return removed;
 }
 
 RunDirectoryLock::RunDirectoryLock(RunDirectoryLock&& other) noexcept : fd_(other.fd_) { other.fd_ = -1; }

@@ -62,6 +62,10 @@ RunDirectoryClaim claim_new_run(const std::filesystem::path& dir, const std::str
 // (`bakesim mesh`): `dir` must hold a bakesim run; returns its lock.
 RunDirectoryLock claim_existing_run(const std::filesystem::path& dir);
 
+// Removes write_file_atomic's leftovers of a killed run from the run
+// directory and its own subdirectories (never from a user's folders in it).
+int remove_run_temporaries(const std::filesystem::path& dir);
+
 // The scene name recorded in DIR's marker ("" when there is no marker).
 std::string run_scene_name(const std::filesystem::path& dir);
 

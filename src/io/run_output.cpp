@@ -13,6 +13,7 @@
 #include "core/errors.hpp"
 #include "core/quantity.hpp"
 #include "io/files.hpp"
+#include "io/run_directory.hpp"
 #include "sim/stats.hpp"
 
 namespace bakesim {
@@ -206,7 +207,7 @@ void RunOutput::resume_after(int frame, std::vector<std::int32_t> follow_ids) {
   }
   if (!pvd_.empty()) write_file_atomic(dir_ / "particles.pvd", encode_pvd(pvd_));
   // Half-written temporaries of the stopped run (killed in the middle of a write).
-  remove_atomic_temporaries(dir_);
+  remove_run_temporaries(dir_);
   // Files of frames after the checkpoint.
   for (const char* sub : {"frames", "meshes"}) {
     std::error_code ec;
