@@ -54,6 +54,26 @@ else
   echo "FAIL: a scene named ../../evil ran outside out/: $(ls "$OUT" "$OUT/cwd" "$OUT/cwd/out" 2>&1 | tr '\n' ' ')"
   fail=1
 fi
+# Crafted files (issue 21): each was accepted, hung, or answered with a bare "stoi".
+printf '{"solver": {"type": "sph", "sph": {"spacing": 0.01}}, "solver": {"type": "mpm"}}' > "$OUT/dup.json"
+expect 2 'dup.json: solver: duplicate key' -- "$BAKESIM" validate "$OUT/dup.json"
+expect 2 '/dev/zero: is not a regular file' -- "$BAKESIM" validate /dev/zero
+mkfifo "$OUT/fifo.json"
+expect 2 'fifo.json: is not a regular file' -- timeout 20 "$BAKESIM" validate "$OUT/fifo.json"
+mkdir -p "$OUT/meshes"
+printf 'v 0 0 0\nv 0.1 0 0\nv 0 nan 0\nv 0 0 0.1\nf 1 2 3\nf 1 3 4\nf 1 4 2\nf 2 4 3\n' > "$OUT/meshes/nan.obj"
+sed 's/no-such-bunny.obj/nan.obj/' "$DATA/missing_mesh.json" > "$OUT/nan-obj.json"
+expect 2 'meshes/nan.obj:3: vertex coordinate .nan. is not a finite number' -- "$BAKESIM" validate "$OUT/nan-obj.json"
+expect 2 'bench --particles: expects comma-separated positive whole numbers' -- "$BAKESIM" bench --particles 12x
+sed 's/"solver"/"name": "loaf\\u001b[2J", "solver"/' "$DATA/good_small.json" > "$OUT/escape.json"
+expect 2 '^bakesim: error: .*escape.json: name: must not contain control characters' -- "$BAKESIM" validate "$OUT/escape.json"
+mkdir -p "$OUT/$(printf 'esc\033[2Jdir')"
+err="$("$BAKESIM" validate "$OUT/$(printf 'esc\033[2Jdir')/none.json" 2>&1)"
+if grep -q 'esc\\x1b\[2Jdir' <<<"$err" && ! grep -q "$(printf '\033')" <<<"$err"; then
+  echo "ok: a control character in a file name is printed escaped"
+else
+  echo "FAIL: a control character in a file name reached the terminal: $err"; fail=1
+fi
 # An unwritable output directory is an I/O failure, reported with its path.
 expect 1 "/proc/bakesim-out" -- "$BAKESIM" run "$DATA/good_small.json" --out /proc/bakesim-out --quiet
 exit $fail
