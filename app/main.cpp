@@ -4,6 +4,7 @@
 // (SIGINT, SIGTERM, SIGHUP) after writing a checkpoint.
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <tbb/global_control.h>
 #include <tbb/info.h>
 
@@ -85,6 +86,7 @@ std::string printable(const std::string& s) {
 
 int command_validate(const std::string& path) {
   Scene scene = load_scene(path);
+  for (const auto& w : scene.warnings) fmt::print(stderr, "bakesim: warning: {}\n", printable(w));
   auto solver = make_solver(scene);
   std::cout << describe(scene, *solver);
   std::cout << "scene is valid\n";
@@ -154,6 +156,7 @@ int command_run(const RunArgs& a) {
   auto& L = log.logger();
   L.info("bakesim {} run of {} ({} threads of {})", BAKESIM_VERSION, a.resume.empty() ? a.scene : a.resume, threads,
          hw);
+  for (const auto& w : scene.warnings) L.warn("{}", w);  // echoed to stderr unless --quiet
   auto solver = make_solver(scene);
   if (a.resume.empty()) {
     // The directory is claimed only once the scene is known to be good: a bad scene touches nothing.
@@ -273,7 +276,14 @@ int command_run(const RunArgs& a) {
   if (!a.quiet) {
     fmt::print(stderr, "bakesim: {} particles, {} steps, {} frames in {} ({:.3g} particle-steps/s on {} threads)\n",
                s.particles, s.steps, s.frames, format_duration(s.wall_seconds), s.particle_steps_per_second, threads);
-    fmt::print(stderr, "output: {}/ (particles.pvd, frames/, stats.csv, scene.json, log.txt)\n", out.string());
+    // What this run wrote (a run without VTU frames has no ParaView series).
+    std::vector<std::string> written;
+    const auto& formats = scene.output.particle_formats;
+    if (std::find(formats.begin(), formats.end(), "vtu") != formats.end()) written.push_back("particles.pvd");
+    written.push_back("frames/ (" + fmt::format("{}", fmt::join(formats, ", ")) + ")");
+    if (scene.resolved["output"]["mesh"]["enabled"].get<bool>()) written.push_back("meshes/");
+    for (const char* f : {"stats.csv", "scene.json", "log.txt"}) written.push_back(f);
+    fmt::print(stderr, "output: {}/ ({})\n", printable(out.string()), fmt::join(written, ", "));
   }
   return kExitOk;
 }

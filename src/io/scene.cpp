@@ -112,6 +112,67 @@ class DuplicateKeyCheck {
   std::vector<Level> stack_;
 };
 
+// The largest extent of a body's shape as the scene gives it (0 for a mesh, whose size is its file's).
+double body_size(const json& shape) {
+  const std::string type = shape.value("type", "");
+  if (type == "box" && shape.contains("min") && shape.contains("max")) {
+    double size = 0;
+    for (int k = 0; k < 3; ++k) size = std::max(size, shape["max"][k].get<double>() - shape["min"][k].get<double>());
+    return size;
+  }
+  if (shape.contains("radius") && shape["radius"].is_number()) {
+    double size = 2 * shape["radius"].get<double>();
+    if (shape.contains("height") && shape["height"].is_number()) size = std::max(size, shape["height"].get<double>());
+    return size;
+  }
+  double size = 0;
+  if (shape.contains("shapes") && shape["shapes"].is_array())
+    for (const auto& s : shape["shapes"]) size = std::max(size, body_size(s));
+  return size;
+}
+
+// Temperatures of an oven, a tray or a hob above this look typed in kelvin or
+// °F (a pizza oven reaches 450 °C, so they are warnings, not errors).
+constexpr double kPlausibleHotDegC = 300;
+// Bodies larger than this look typed in millimetres.
+constexpr double kPlausibleBodyMetres = 2;
+
+// The highest temperature of a number or a [[t, T], ...] schedule.
+double highest_temperature(const json& j) {
+  if (j.is_number()) return j.get<double>();
+  double hottest = -273.15;
+  if (j.is_array())
+    for (const auto& point : j)
+      if (point.is_array() && point.size() == 2 && point[1].is_number())
+        hottest = std::max(hottest, point[1].get<double>());
+  return hottest;
+}
+
+std::vector<std::string> plausibility_warnings(const json& doc) {
+  std::vector<std::string> out;
+  auto hot = [&](const std::string& path, const json& j) {
+    const double t = highest_temperature(j);
+    if (t > kPlausibleHotDegC)
+      out.push_back(
+          fmt::format("{} reaches {:g} degC: bakesim reads degrees Celsius ({:g} K would be {:.0f} degC, "
+                      "{:g} degF {:.0f} degC)",
+                      path, t, t, t - 273.15, t, (t - 32) / 1.8));
+  };
+  hot("environment.air_temperature", doc["environment"]["air_temperature"]);
+  for (std::size_t i = 0; i < doc["colliders"].size(); ++i)
+    if (!doc["colliders"][i]["temperature"].is_null())
+      hot(fmt::format("colliders[{}].temperature", i), doc["colliders"][i]["temperature"]);
+  for (std::size_t i = 0; i < doc["bodies"].size(); ++i) {
+    const double size = body_size(doc["bodies"][i]["shape"]);
+    if (size > kPlausibleBodyMetres)
+      out.push_back(
+          fmt::format("bodies[{}].shape is about {:g} m across: bakesim reads metres ({:g} mm would be "
+                      "{:g} m)",
+                      i, size, size, size / 1000));
+  }
+  return out;
+}
+
 }  // namespace
 
 // A scene is read in three steps: the schema validates the document and fills
@@ -160,17 +221,24 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::s
   if (sc.end_time * sc.fps > 1e6) c.fail("time", "more than a million frames: lower time.fps or time.end");
   require_box(c, "domain", vec3(doc["domain"]["min"]), vec3(doc["domain"]["max"]));
 
+  sc.warnings = plausibility_warnings(doc);
   const SceneParts parts = read_common(c, doc, solver_friction_model(sc.solver_type));
   sc.oven = parts.world.oven;
   sc.gravity = parts.world.gravity;
   // The bodies as the stats columns need them, from the chosen solver's setup
   // (only SPH holds a body at its temperature).
-  if (sc.solver_type == "mpm") {
-    sc.mpm = build_mpm_setup(c, doc, parts);
-    for (const auto& b : sc.mpm.bodies) sc.bodies.push_back({b.name, false});
-  } else {
-    sc.sph = build_sph_setup(c, doc, parts);
-    for (const auto& b : sc.sph.bodies) sc.bodies.push_back({b.name, b.hold_temperature});
+  try {
+    if (sc.solver_type == "mpm") {
+      sc.mpm = build_mpm_setup(c, doc, parts);
+      for (const auto& b : sc.mpm.bodies) sc.bodies.push_back({b.name, false});
+    } else {
+      sc.sph = build_sph_setup(c, doc, parts);
+      for (const auto& b : sc.sph.bodies) sc.bodies.push_back({b.name, b.hold_temperature});
+    }
+  } catch (const InputError& e) {
+    // "The bodies would hold 1e11 particles" is, most often, a size typed in millimetres: say so.
+    if (sc.warnings.empty()) throw;
+    throw InputError(e.where(), e.detail() + " (note: " + sc.warnings.front() + ")");
   }
 
   for (std::size_t i = 0; i < doc["probes"].size(); ++i) {
@@ -190,7 +258,13 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::s
 Scene load_scene(const std::string& path) {
   std::error_code ec;
   if (!fs::exists(path, ec)) throw InputError(path, "scene file not found");
-  if (fs::is_directory(path, ec)) throw InputError(path, "is a directory, not a scene file");
+  if (fs::is_directory(path, ec)) {
+    if (fs::is_regular_file(fs::path(path) / "scene.json", ec) && fs::is_directory(fs::path(path) / "frames", ec))
+      throw InputError(path, "is a run directory, not a scene file: to go on with that run, bakesim run --resume " +
+                                 path + "; to run its scene again, bakesim run " +
+                                 (fs::path(path) / "scene.json").string() + " --out NEW_DIR");
+    throw InputError(path, "is a directory, not a scene file");
+  }
   // A scene is text written by hand or by a script: 64 MiB is far beyond any real one.
   const std::string text = read_file(path, std::uintmax_t(64) << 20);
   const std::string dir = fs::path(path).parent_path().string();

@@ -43,6 +43,10 @@ struct Scene {
   std::vector<BodyInfo> bodies;
   std::vector<ProbeSpec> probes;
   OutputSpec output;
+  // Values that are allowed but look like a unit mistake (an oven at 493 °C
+  // typed in kelvin, a body 50 m across typed in millimetres); `validate`
+  // and `run` print them.
+  std::vector<std::string> warnings;
   // The chosen solver's setup (the other stays empty).
   sph::Setup sph;
   mpm::Setup mpm;

@@ -42,6 +42,17 @@ std::vector<double> nice_ticks(double lo, double hi, int target) {
   return ticks;
 }
 
+std::string tick_label(double v, double step) {
+  // As many decimals as the step needs: 2.5 needs one (0, 2.5, 5, 7.5, not 0, 2, 5, 8).
+  int decimals = std::max(0, int(-std::floor(std::log10(step) + 1e-9)));
+  for (; decimals < 6; ++decimals) {
+    const double scaled = step * std::pow(10.0, decimals);
+    if (std::abs(scaled - std::round(scaled)) < 1e-6 * scaled) break;
+  }
+  const std::string label = fmt::format("{:.{}f}", v, decimals);
+  return label.find_first_not_of("-0.") == std::string::npos ? label.substr(label[0] == '-') : label;  // no "-0"
+}
+
 namespace {
 
 // Anti-aliased thick segment: coverage from the distance to the segment.
@@ -62,11 +73,6 @@ void segment(Image& img, double x0, double y0, double x1, double y1, double w, R
 void rect(Image& img, int x0, int y0, int x1, int y1, Rgb c) {
   for (int y = y0; y <= y1; ++y)
     for (int x = x0; x <= x1; ++x) img.set(x, y, c);
-}
-
-std::string tick_label(double v, double step) {
-  const int decimals = std::max(0, int(-std::floor(std::log10(step) + 1e-9)));
-  return fmt::format("{:.{}f}", v, std::min(decimals, 6));
 }
 
 const Rgb kColours[] = {{31, 119, 180}, {214, 39, 40},   {44, 160, 44},   {255, 127, 14}, {148, 103, 189},

@@ -29,6 +29,8 @@ Image plot_lines(const PlotSpec& spec, const TextRenderer& text);
 
 // "Nice" tick values covering [lo, hi] (1, 2 or 5 times a power of ten apart).
 std::vector<double> nice_ticks(double lo, double hi, int target_count = 6);
+// A tick's label with the decimals its step needs.
+std::string tick_label(double value, double step);
 
 // A CSV table: header names and columns of numbers (non-numbers become NaN).
 struct Table {

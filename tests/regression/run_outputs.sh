@@ -25,6 +25,18 @@ for col in volume:block height:block core_temperature:block crust_temperature:bl
 done
 check '! grep -q "youngs_modulus" "$OUT/run/scene.json"' "the resolved SPH scene holds no MPM keys"
 check '[ -z "$(find "$OUT/run" -name ".*tmp*")" ]' "no temporary files left behind"
+# The summary names what was written (it promised particles.pvd to runs without VTU frames).
+sed 's/"solver"/"output": {"particles": ["ply"]}, "solver"/' "$ROOT/tests/data/good_small.json" > "$OUT/ply-only.json"
+"$BAKESIM" run "$OUT/ply-only.json" --out "$OUT/ply-only" --end-time 0.02 2>"$OUT/ply-only.txt"
+check 'grep -q "output: $OUT/ply-only/ (frames/ (ply), stats.csv" "$OUT/ply-only.txt" && ! grep -q pvd "$OUT/ply-only.txt" && [ ! -e "$OUT/ply-only/particles.pvd" ]' "a run without VTU frames does not promise particles.pvd"
+check 'grep -q "output: $OUT/run/ (particles.pvd, frames/ (ply, vtu)" "$OUT/stderr.txt"' "a run with VTU frames names particles.pvd"
+# A run directory given as the scene: the message says how to resume it.
+"$BAKESIM" run "$OUT/run" 2>"$OUT/rundir.txt"
+check '[ $? -eq 2 ] && grep -q "is a run directory, not a scene file: to go on with that run, bakesim run --resume $OUT/run" "$OUT/rundir.txt"' "bakesim run RUN_DIR suggests --resume"
+# Values that look like a unit mistake are warned about, not refused.
+sed 's/"solver"/"environment": {"air_temperature": 493}, "solver"/' "$ROOT/tests/data/good_small.json" > "$OUT/kelvin.json"
+"$BAKESIM" validate "$OUT/kelvin.json" >/dev/null 2>"$OUT/kelvin.txt"
+check '[ $? -eq 0 ] && grep -q "warning: environment.air_temperature reaches 493 degC: .*493 K would be 220 degC" "$OUT/kelvin.txt"' "an oven at 493 degC is warned about as kelvin or degF"
 # --end-time overrides the scene and is recorded in the resolved scene.
 "$BAKESIM" run "$ROOT/tests/data/good_small.json" --out "$OUT/short" --end-time 0.01 --quiet
 check 'grep -q "\"end\": 0.01" "$OUT/short/scene.json"' "--end-time recorded in scene.json"

@@ -475,3 +475,28 @@ TEST(Scene, NamesThatReachTheTerminalHoldNoControlCharacters) {
   m["materials"]["wa\nter"] = m["materials"]["water"];
   expect_error(m, {"control characters"});
 }
+
+// Issue 22: "$schema" (for editors) was refused as an unknown key.
+TEST(Scene, SchemaKeyForEditorsIsAllowed) {
+  json s = base_scene();
+  s["$schema"] = "./scene.schema.json";
+  EXPECT_NO_THROW(parse_scene(s.dump(), "scene.json", "."));
+}
+
+// Issue 22: an oven typed in kelvin or °F and a body typed in millimetres were accepted silently.
+TEST(Scene, ValuesThatLookLikeAUnitMistakeAreWarnedAbout) {
+  EXPECT_TRUE(parse_scene(base_scene().dump(), "scene.json", ".").warnings.empty());
+  json kelvin = base_scene();
+  kelvin["environment"]["air_temperature"] = 493;
+  const auto w = parse_scene(kelvin.dump(), "scene.json", ".").warnings;
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_NE(w[0].find("environment.air_temperature reaches 493 degC"), std::string::npos) << w[0];
+  EXPECT_NE(w[0].find("would be 220 degC"), std::string::npos) << w[0];
+  json schedule = base_scene();
+  schedule["environment"]["air_temperature"] = json::array({json::array({0, 180}), json::array({600, 356})});
+  EXPECT_EQ(parse_scene(schedule.dump(), "scene.json", ".").warnings.size(), 1u);
+  // A 25 mm radius typed as 25: the particle-count refusal says what was probably meant.
+  json mm = base_scene();
+  mm["bodies"][0]["shape"] = {{"type", "sphere"}, {"center", {0.1, 0.1, 0.1}}, {"radius", 25}};
+  expect_error(mm, {"solver.sph.spacing", "bodies[0].shape is about 50 m across", "50 mm would be 0.05 m"});
+}

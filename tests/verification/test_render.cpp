@@ -110,6 +110,22 @@ TEST(Plot, NiceTicksAndALineWhereTheDataAre) {
   EXPECT_NEAR(found, (top + bottom) / 2, 12);
 }
 
+// Issue 22: steps of 2.5 were labelled "0, 2, 5, 8, 10".
+TEST(Plot, TickLabelsShowTheDecimalsTheirStepNeeds) {
+  const auto t = nice_ticks(0.0, 10.0, 4);
+  ASSERT_GE(t.size(), 2u);
+  const double step = t[1] - t[0];
+  EXPECT_DOUBLE_EQ(step, 2.5);
+  std::vector<std::string> labels;
+  for (double v : t) labels.push_back(tick_label(v, step));
+  EXPECT_EQ(labels, (std::vector<std::string>{"0.0", "2.5", "5.0", "7.5", "10.0"}));
+  EXPECT_EQ(tick_label(20, 5), "20");
+  EXPECT_EQ(tick_label(0.25, 0.25), "0.25");
+  EXPECT_EQ(tick_label(0.3, 0.1), "0.3");
+  EXPECT_EQ(tick_label(-1e-17, 0.5), "0.0");  // never "-0.0"
+  EXPECT_EQ(tick_label(1.5e-6, 2.5e-7), "0.0000015");
+}
+
 TEST(Plot, ATinyOrDegenerateSpanStillGetsTicksAndAPicture) {
   // A run of a few nanoseconds: the tick step was not representable (issue 21: a crash).
   for (const auto& [lo, hi] : std::vector<std::pair<double, double>>{
