@@ -50,7 +50,14 @@ struct RunArgs {
   double checkpoint_minutes = -1;
   bool quiet = false;
   bool force = false;
+  std::vector<std::string> sets;  // --set KEY.PATH=VALUE
 };
+
+std::vector<SceneOverride> parse_overrides(const std::vector<std::string>& sets) {
+  std::vector<SceneOverride> out;
+  for (const auto& s : sets) out.push_back(parse_override(s));
+  return out;
+}
 
 // SIGINT/SIGTERM/SIGHUP: the first asks the run to stop after the current
 // frame (with a checkpoint); a second one ends the process at once.
@@ -84,8 +91,8 @@ std::string printable(const std::string& s) {
   return out;
 }
 
-int command_validate(const std::string& path) {
-  Scene scene = load_scene(path);
+int command_validate(const std::string& path, const std::vector<std::string>& sets) {
+  Scene scene = load_scene(path, parse_overrides(sets));
   for (const auto& w : scene.warnings) fmt::print(stderr, "bakesim: warning: {}\n", printable(w));
   auto solver = make_solver(scene);
   std::cout << describe(scene, *solver);
@@ -133,7 +140,7 @@ int command_run(const RunArgs& a) {
       throw InputError(checkpoint_file.string(),
                        "checkpoint of a different scene than " + (dir / "scene.json").string());
   } else {
-    scene = load_scene(a.scene);
+    scene = load_scene(a.scene, parse_overrides(a.sets));
     scene_dir = fs::absolute(fs::path(a.scene)).parent_path().string();
   }
   if (a.end_time > 0) {
@@ -156,6 +163,7 @@ int command_run(const RunArgs& a) {
   auto& L = log.logger();
   L.info("bakesim {} run of {} ({} threads of {})", BAKESIM_VERSION, a.resume.empty() ? a.scene : a.resume, threads,
          hw);
+  for (const auto& s : a.sets) L.info("--set {}", s);
   for (const auto& w : scene.warnings) L.warn("{}", w);  // echoed to stderr unless --quiet
   auto solver = make_solver(scene);
   if (a.resume.empty()) {
@@ -370,6 +378,7 @@ int main(int argc, char** argv) {
       "Examples:\n"
       "  bakesim run scenes/dam-break.json                 bake into out/dam-break/\n"
       "  bakesim run scenes/dam-break.json --out /tmp/db --threads 2 --end-time 0.5\n"
+      "  bakesim run scenes/cookie-baseline.json --set environment.air_temperature=200 --out out/cookie-200\n"
       "  bakesim run --resume out/bread-roll               go on from the newest checkpoint (after Ctrl-C, a crash, a "
       "kill)\n"
       "  bakesim validate scenes/viscous-funnel.json       check a scene, print what it would simulate\n"
@@ -398,13 +407,19 @@ int main(int argc, char** argv) {
   run->add_option("--threads,-j", run_args.threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 4096));
   run->add_option("--end-time", run_args.end_time, "Override the scene's time.end (s)")->check(CLI::PositiveNumber);
   run->add_flag("--quiet,-q", run_args.quiet, "No progress bar or summary");
+  run->add_option("--set", run_args.sets,
+                  "Change a scene value: KEY.PATH=VALUE, e.g. environment.air_temperature=200 or "
+                  "bodies[0].temperature=5 (repeatable; checked like the file; recorded in scene.json)")
+      ->excludes(run->get_option("--resume"));
   run->add_flag("--force", run_args.force,
                 "Write into a directory that is not empty or holds another scene's run (bakesim still never replaces "
                 "or deletes files it did not write)");
 
   std::string validate_path;
+  std::vector<std::string> validate_sets;
   auto* validate = app.add_subcommand("validate", "Check a scene and print what it would simulate");
   validate->add_option("scene", validate_path, "Scene file (JSON)")->required();
+  validate->add_option("--set", validate_sets, "Change a scene value: KEY.PATH=VALUE (as for run)");
 
   BenchOptions bench_opt;
   std::string bench_particles, bench_threads, bench_search = "grid,kdtree", bench_models = "elastic,viscoplastic";
@@ -487,7 +502,7 @@ int main(int argc, char** argv) {
         throw InputError("run", "give a scene file, or --resume RUN_DIR");
       return command_run(run_args);
     }
-    if (*validate) return command_validate(validate_path);
+    if (*validate) return command_validate(validate_path, validate_sets);
     if (*mesh) return command_mesh(mesh_args);
     if (*render_cmd) {
       const int threads = render_threads > 0 ? render_threads : static_cast<int>(tbb::info::default_concurrency());

@@ -179,7 +179,69 @@ std::vector<std::string> plausibility_warnings(const json& doc) {
 // its defaults (refusing keys the chosen solver does not read); the parts both
 // solvers read the same way are read once (scene_parts.cpp); the chosen
 // solver's setup is built from them in its own file (scene_sph.cpp, scene_mpm.cpp).
-Scene parse_scene(const std::string& text, const std::string& file, const std::string& base_dir) {
+SceneOverride parse_override(const std::string& text) {
+  const std::size_t eq = text.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw InputError("--set", "expects KEY.PATH=VALUE (e.g. environment.air_temperature=200), got '" + text + "'");
+  SceneOverride o;
+  o.path = text.substr(0, eq);
+  const std::string value = text.substr(eq + 1);
+  // "key", "key[0]", "key[0][1]" separated by dots.
+  std::size_t at = 0;
+  while (at <= o.path.size()) {
+    const std::size_t dot = std::min(o.path.find('.', at), o.path.size());
+    std::string part = o.path.substr(at, dot - at);
+    const std::size_t bracket = part.find('[');
+    const std::string key = part.substr(0, bracket);
+    if (key.empty()) throw InputError("--set", "an empty key in '" + o.path + "'");
+    o.keys.push_back(key);
+    for (std::size_t b = bracket; b != std::string::npos; b = part.find('[', b + 1)) {
+      const std::size_t close = part.find(']', b);
+      const std::string digits = close == std::string::npos ? "" : part.substr(b + 1, close - b - 1);
+      if (digits.empty() || digits.size() > 6 || digits.find_first_not_of("0123456789") != std::string::npos ||
+          (close + 1 < part.size() && part[close + 1] != '['))
+        throw InputError("--set", "a malformed array index in '" + o.path + "' (write bodies[0].temperature)");
+      o.keys.push_back("[" + digits + "]");
+    }
+    at = dot + 1;
+  }
+  try {
+    o.value = json::parse(value);
+  } catch (const json::exception&) {
+    o.value = value;  // a plain word: a string ("sph", "implicit")
+  }
+  return o;
+}
+
+namespace {
+
+void apply_override(json& doc, const SceneOverride& o) {
+  json* node = &doc;
+  std::string where;
+  for (std::size_t k = 0; k < o.keys.size(); ++k) {
+    const std::string& key = o.keys[k];
+    const bool last = k + 1 == o.keys.size();
+    if (key[0] == '[') {
+      const std::size_t index = std::stoul(key.substr(1, key.size() - 2));  // digits only (parse_override)
+      if (!node->is_array()) throw InputError("--set " + o.path, where + " is not a list in the scene");
+      if (index >= node->size())
+        throw InputError("--set " + o.path, fmt::format("{} has {} entries", where, node->size()));
+      node = &(*node)[index];
+    } else {
+      if (node->is_null()) *node = json::object();
+      if (!node->is_object())
+        throw InputError("--set " + o.path, (where.empty() ? "the scene" : where) + " is not an object");
+      node = &(*node)[key];
+    }
+    where += key[0] == '[' || where.empty() ? key : "." + key;
+    if (last) *node = o.value;
+  }
+}
+
+}  // namespace
+
+Scene parse_scene(const std::string& text, const std::string& file, const std::string& base_dir,
+                  const std::vector<SceneOverride>& overrides) {
   json doc;
   try {
     doc = json::parse(text, DuplicateKeyCheck(file), true, /*ignore_comments=*/true);
@@ -195,6 +257,7 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::s
     throw InputError(file, std::string("JSON error: ") + e.what());
   }
   if (!doc.is_object()) throw InputError(file, "a scene must be a JSON object");
+  for (const SceneOverride& o : overrides) apply_override(doc, o);
   apply_material_presets(doc);
   scene_schema().validate(doc, file);
 
@@ -255,7 +318,7 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::s
   return sc;
 }
 
-Scene load_scene(const std::string& path) {
+Scene load_scene(const std::string& path, const std::vector<SceneOverride>& overrides) {
   std::error_code ec;
   if (!fs::exists(path, ec)) throw InputError(path, "scene file not found");
   if (fs::is_directory(path, ec)) {
@@ -268,7 +331,7 @@ Scene load_scene(const std::string& path) {
   // A scene is text written by hand or by a script: 64 MiB is far beyond any real one.
   const std::string text = read_file(path, std::uintmax_t(64) << 20);
   const std::string dir = fs::path(path).parent_path().string();
-  return parse_scene(text, path, dir.empty() ? "." : dir);
+  return parse_scene(text, path, dir.empty() ? "." : dir, overrides);
 }
 
 std::unique_ptr<Solver> make_solver(const Scene& scene) {

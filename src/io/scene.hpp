@@ -52,11 +52,26 @@ struct Scene {
   mpm::Setup mpm;
 };
 
+// A change to a scene from the command line: `--set key.path=value`, e.g.
+// `environment.air_temperature=200`, `bodies[0].temperature=5`,
+// `materials.dough.density=650`. The value is read as JSON (a number, true,
+// [0, 1, 0], {"curve": ...}, "text") and as a plain string when it is not JSON.
+struct SceneOverride {
+  std::string path;               // as typed, for messages
+  std::vector<std::string> keys;  // object keys, or array indices as "[N]"
+  nlohmann::json value;
+};
+// Throws InputError("--set", ...) for text without "=" or with a malformed path.
+SceneOverride parse_override(const std::string& text);
+
 // Reads and validates a scene file. Throws InputError (file:line:column for
-// syntax errors, "file: key.path" for content errors).
-Scene load_scene(const std::string& path);
+// syntax errors, "file: key.path" for content errors). Overrides are applied
+// to the document before it is validated, so they obey the same schema and
+// limits and appear in the resolved scene.
+Scene load_scene(const std::string& path, const std::vector<SceneOverride>& overrides = {});
 // Same, from text; `file` names it in messages, `base_dir` resolves mesh paths.
-Scene parse_scene(const std::string& text, const std::string& file, const std::string& base_dir);
+Scene parse_scene(const std::string& text, const std::string& file, const std::string& base_dir,
+                  const std::vector<SceneOverride>& overrides = {});
 
 std::unique_ptr<Solver> make_solver(const Scene& scene);
 

@@ -500,3 +500,32 @@ TEST(Scene, ValuesThatLookLikeAUnitMistakeAreWarnedAbout) {
   mm["bodies"][0]["shape"] = {{"type", "sphere"}, {"center", {0.1, 0.1, 0.1}}, {"radius", 25}};
   expect_error(mm, {"solver.sph.spacing", "bodies[0].shape is about 50 m across", "50 mm would be 0.05 m"});
 }
+
+// Issue 22 item 2: `--set key.path=value` changes a scene before it is checked.
+TEST(Scene, OverridesChangeTheDocumentBeforeItIsChecked) {
+  const std::string text = base_scene().dump();
+  const Scene s =
+      parse_scene(text, "scene.json", ".",
+                  {parse_override("bodies[0].temperature=5"), parse_override("environment.air_temperature=200"),
+                   parse_override("solver.sph.spacing=0.008"), parse_override("name=hot")});
+  EXPECT_EQ(s.resolved["bodies"][0]["temperature"], 5.0);
+  EXPECT_EQ(s.resolved["environment"]["air_temperature"], 200.0);
+  EXPECT_EQ(s.resolved["solver"]["sph"]["spacing"], 0.008);
+  EXPECT_EQ(s.name, "hot");  // not JSON: a plain string
+  // The schema still judges the value, naming the key.
+  auto refused = [&](const std::string& set, const std::string& fragment) {
+    try {
+      parse_scene(text, "scene.json", ".", {parse_override(set)});
+      ADD_FAILURE() << "accepted --set " << set;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+    }
+  };
+  refused("bodies[0].temperature=hot", "bodies[0].temperature: expected a number");
+  refused("bodies[0].temperatur=5", "did you mean 'temperature'");
+  refused("bodies[2].temperature=5", "--set bodies[2].temperature: bodies has 1 entries");
+  refused("time.end.x=1", "time.end is not an object");
+  EXPECT_THROW(parse_override("no-equals-sign"), InputError);
+  EXPECT_THROW(parse_override("bodies[a].x=1"), InputError);
+  EXPECT_THROW(parse_override("bodies..x=1"), InputError);
+}
