@@ -3,7 +3,7 @@
 set -euo pipefail
 cd "$(dirname "$0")"
 ./scripts/install-deps.sh
-./scripts/build.sh
+./scripts/build.sh bakesim   # only the command line: the tests and benchmarks are built by ./test.sh
 SCENE="${1:-scenes/bread-roll.json}"
 NAME="$(basename "$SCENE" .json)"
 B=./build/app/bakesim

@@ -183,6 +183,9 @@ int command_run(const RunArgs& a) {
   cfg.end_time = scene.end_time;
   cfg.fps = scene.fps;
   cfg.min_dt = scene.resolved["solver"]["min_dt"].get<double>();
+  // A bake (heat, and at least a minute of oven): the bar counts minutes of oven and the summary says what it did.
+  const bool baking = solver->heats() && scene.oven.bake_time(scene.end_time) >= 60;
+  if (baking) cfg.bake_time_scale = scene.oven.bake_time_scale;
   for (const auto& r : refused) L.warn("refused checkpoint: {}", r);
   if (checkpoint) {
     restore_checkpoint(*solver, *checkpoint, checkpoint_file.string());
@@ -217,7 +220,9 @@ int command_run(const RunArgs& a) {
   // leaves a checkpoint just before its frame (a copy of the particles per frame).
   std::optional<Checkpoint> last_good;
   const int total_frames = std::max(1, static_cast<int>(std::ceil(scene.end_time * scene.fps - 1e-9)));
+  ProgressBar progress(stderr, !a.quiet);
   cfg.after_frame = [&](const FrameInfo& info, const Solver& s) {
+    if (baking) progress.set_note(output.progress_note());
     const bool stop = g_stop_signal.load() != 0;
     const bool due = (every_frames > 0 && info.frame > 0 && info.frame % every_frames == 0) ||
                      (every_minutes > 0 && since_checkpoint.seconds() >= 60.0 * every_minutes);
@@ -229,7 +234,6 @@ int command_run(const RunArgs& a) {
   };
   g_stop_signal = 0;
   for (const int sig : {SIGINT, SIGTERM, SIGHUP}) std::signal(sig, on_stop_signal);
-  ProgressBar progress(stderr, !a.quiet);
   RunSummary s;
   try {
     s = run_frames(*solver, cfg, output, progress, L);
@@ -280,6 +284,8 @@ int command_run(const RunArgs& a) {
   L.info("done: {} steps, {} frames, {:.2f} s wall, {:.3g} particle-steps/s", s.steps, s.frames, s.wall_seconds,
          s.particle_steps_per_second);
   L.info("time per step by phase:\n{}", solver->timers().report(std::max(1L, s.steps)));
+  const std::vector<std::string> bake = baking ? output.bake_summary() : std::vector<std::string>{};
+  for (const auto& line : bake) L.info("bake: {}", line);
   output.flush_log();
   if (!a.quiet) {
     fmt::print(stderr, "bakesim: {} particles, {} steps, {} frames in {} ({:.3g} particle-steps/s on {} threads)\n",
@@ -292,6 +298,9 @@ int command_run(const RunArgs& a) {
     if (scene.resolved["output"]["mesh"]["enabled"].get<bool>()) written.push_back("meshes/");
     for (const char* f : {"stats.csv", "scene.json", "log.txt"}) written.push_back(f);
     fmt::print(stderr, "output: {}/ ({})\n", printable(out.string()), fmt::join(written, ", "));
+    if (!bake.empty())
+      fmt::print(stderr, "bake of {:.1f} min: {}\n", scene.oven.bake_time(scene.end_time) / 60,
+                 printable(fmt::format("{}", fmt::join(bake, "; "))));
   }
   return kExitOk;
 }

@@ -28,19 +28,28 @@ void ProgressBar::update(const ProgressState& s, bool force) {
   const double dt_wall = now - time_at_last_;
   if (dt_wall > 0.05) {
     const double inst = double(s.steps - steps_at_last_) / dt_wall;
+    const double sim_inst = (s.time - sim_at_last_) / dt_wall;
     rate_ = rate_ > 0 ? 0.7 * rate_ + 0.3 * inst : inst;
+    sim_rate_ = sim_rate_ > 0 ? 0.7 * sim_rate_ + 0.3 * sim_inst : sim_inst;
     steps_at_last_ = s.steps;
+    sim_at_last_ = s.time;
     time_at_last_ = now;
   }
   const double fraction = s.end_time > 0 ? std::clamp(s.time / s.end_time, 0.0, 1.0) : 0.0;
-  const double eta = fraction > 1e-6 ? now * (1.0 - fraction) / fraction : -1.0;
+  // From the recent rate of simulated time, not the average since the start:
+  // the step shrinks as dough sets, so the average promised too little.
+  const double eta = sim_rate_ > 0 ? (s.end_time - s.time) / sim_rate_ : -1.0;
   constexpr int width = 28;
   const int filled = static_cast<int>(fraction * width);
   std::string bar(static_cast<std::size_t>(filled), '#');
   bar.resize(width, '.');
+  const std::string clock =
+      s.bake_time_scale > 0
+          ? fmt::format("bake {:.1f}/{:.1f} min", s.time * s.bake_time_scale / 60, s.end_time * s.bake_time_scale / 60)
+          : fmt::format("t={:.3f}/{:.3f} s", s.time, s.end_time);
   const std::string line =
-      fmt::format("[{}] {:3.0f}%  frame {}/{}  t={:.3f}/{:.3f} s  {:.0f} steps/s  ETA {}", bar, 100.0 * fraction,
-                  s.frame, s.frames, s.time, s.end_time, rate_, format_duration(eta));
+      fmt::format("[{}] {:3.0f}%  {}{}{}  frame {}/{}  {:.0f} steps/s  ETA {}", bar, 100.0 * fraction, clock,
+                  note_.empty() ? "" : "  ", note_, s.frame, s.frames, rate_, format_duration(eta));
   if (tty_)
     std::fprintf(stream_, "\r%s\033[K", line.c_str());
   else

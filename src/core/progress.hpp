@@ -15,12 +15,17 @@ struct ProgressState {
   double time = 0.0;
   double end_time = 0.0;
   long steps = 0;
+  // Bake seconds per simulated second; > 0 shows the bake clock (minutes of
+  // oven) instead of the mechanics clock.
+  double bake_time_scale = 0.0;
 };
 
 class ProgressBar {
  public:
   ProgressBar(std::FILE* stream, bool enabled);
   void update(const ProgressState& s, bool force = false);
+  // Text shown after the clock until replaced (e.g. "core 87.3 degC").
+  void set_note(std::string note) { note_ = std::move(note); }
   void finish();
 
  private:
@@ -31,7 +36,10 @@ class ProgressBar {
   double last_draw_ = -1e9;
   long steps_at_last_ = 0;
   double time_at_last_ = 0.0;
-  double rate_ = 0.0;
+  double rate_ = 0.0;      // steps per wall second, smoothed
+  double sim_rate_ = 0.0;  // simulated seconds per wall second, smoothed (the ETA)
+  double sim_at_last_ = 0.0;
+  std::string note_;
   bool drawn_ = false;
 };
 

@@ -129,6 +129,9 @@ void RunOutput::on_frame(const FrameInfo& info, const Solver& solver) {
                   num(s.bounds.max.z()), num(s.mean_temperature), num(s.min_temperature), num(s.max_temperature),
                   num(scene_.oven.air_temperature(bake_time)), num(clock_.seconds()), num(bake_time));
   const std::vector<BodyStats> bodies = compute_body_stats(ps, scene_.bodies.size(), up_direction(scene_));
+  last_volume_.clear();
+  for (const BodyStats& b : bodies) last_volume_.push_back(b.volume);
+  if (first_volume_.empty()) first_volume_ = last_volume_;
   for (std::size_t b = 0; b < bodies.size(); ++b)
     if (!scene_.bodies[b].hold_temperature) row += "," + num(bodies[b].volume) + "," + num(bodies[b].height());
   if (follow_ids_.empty()) {
@@ -159,15 +162,37 @@ void RunOutput::on_frame(const FrameInfo& info, const Solver& solver) {
                                        : ParticleQuantity::resolve(ps, q, "probes")(std::size_t(at - ids.begin())));
   }
   if (bake_) {
-    const std::vector<BodyBake> bake = bake_->compute(ps);
-    for (std::size_t b = 0; b < bake.size(); ++b)
+    last_bake_ = bake_->compute(ps);
+    for (std::size_t b = 0; b < last_bake_.size(); ++b)
       if (!scene_.bodies[b].hold_temperature)
-        for (Real v : bake_->values(bake[b])) row += "," + num(v);
+        for (Real v : bake_->values(last_bake_[b])) row += "," + num(v);
   }
   for (const auto& [name, value] : extra) row += "," + num(value);
   // One row appended per frame: the cost of a frame does not grow with the run.
   append_file(dir_ / "stats.csv", row + "\n");
   flush_log();
+}
+
+std::string RunOutput::progress_note() const {
+  Real coldest = std::numeric_limits<Real>::infinity();
+  for (std::size_t b = 0; b < last_bake_.size(); ++b)
+    if (!scene_.bodies[b].hold_temperature) coldest = std::min(coldest, last_bake_[b].core_temperature);
+  return std::isfinite(coldest) ? fmt::format("core {:.1f} degC", coldest) : "";
+}
+
+std::vector<std::string> RunOutput::bake_summary() const {
+  std::vector<std::string> lines;
+  for (std::size_t b = 0; b < last_bake_.size(); ++b) {
+    if (scene_.bodies[b].hold_temperature) continue;
+    const BodyBake& k = last_bake_[b];
+    std::string line = fmt::format("{}: core {:.1f} degC, crust {:.1f} degC", scene_.bodies[b].name, k.core_temperature,
+                                   k.crust_temperature);
+    if (b < first_volume_.size() && b < last_volume_.size() && first_volume_[b] > 0)
+      line += fmt::format(", volume x{:.2f}", last_volume_[b] / first_volume_[b]);
+    if (bake_->has_water()) line += fmt::format(", moisture loss {:.1f} %", std::max(0.0, k.moisture_loss_percent));
+    lines.push_back(line);
+  }
+  return lines;
 }
 
 void RunOutput::flush_log() { log_.append_to(dir_ / "log.txt"); }
@@ -190,6 +215,21 @@ void RunOutput::resume_after(int frame, std::vector<std::int32_t> follow_ids) {
   if (lines < lines_wanted)
     throw InputError(stats.string(),
                      fmt::format("has {} frames, the checkpoint is at frame {}", std::max(0L, lines - 1), frame));
+  // The bodies' volumes at frame 0 (the reference of the rise in the summary).
+  {
+    std::istringstream rows(kept);
+    std::string header, first, cell;
+    std::getline(rows, header);
+    std::getline(rows, first);
+    std::vector<std::string> names, values;
+    for (std::istringstream h(header); std::getline(h, cell, ',');) names.push_back(cell);
+    for (std::istringstream v(first); std::getline(v, cell, ',');) values.push_back(cell);
+    first_volume_.assign(scene_.bodies.size(), std::numeric_limits<Real>::quiet_NaN());
+    for (std::size_t b = 0; b < scene_.bodies.size(); ++b)
+      for (std::size_t k = 0; k < names.size() && k < values.size(); ++k)
+        if (names[k] == "volume:" + scene_.bodies[b].name)
+          if (const auto v = parse_number(values[k])) first_volume_[b] = *v;
+  }
   header_written_ = true;
   // particles.pvd: entries of frames up to `frame`, read back from the file.
   pvd_.clear();

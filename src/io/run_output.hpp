@@ -56,6 +56,11 @@ class RunOutput final : public FrameObserver {
   // to it and removes particle and mesh files of later frames (left by the run
   // that stopped), so the resumed run appends without duplicates or gaps.
   void resume_after(int frame, std::vector<std::int32_t> follow_ids);
+  // For the progress bar: the coldest core of the baking bodies ("core 87.3 degC"), "" when nothing bakes.
+  std::string progress_note() const;
+  // What the bake did, one line per baking body (core and crust temperature,
+  // rise, moisture loss), for the end of the run; empty when nothing bakes.
+  std::vector<std::string> bake_summary() const;
 
  private:
   std::filesystem::path dir_;
@@ -65,8 +70,10 @@ class RunOutput final : public FrameObserver {
   std::vector<PvdEntry> pvd_;
   std::optional<MeshSettings> mesh_;  // output.mesh.enabled: mesh each written frame
   RunGeometry geometry_;
-  std::vector<std::int32_t> follow_ids_;  // per probe: followed particle id, -1 for fixed probes
-  std::optional<BakeStatistics> bake_;    // per-body bake columns, when the solver heats
+  std::vector<std::int32_t> follow_ids_;          // per probe: followed particle id, -1 for fixed probes
+  std::optional<BakeStatistics> bake_;            // per-body bake columns, when the solver heats
+  std::vector<BodyBake> last_bake_;               // of the last frame
+  std::vector<Real> first_volume_, last_volume_;  // per body: frame 0 and the last frame
   Stopwatch clock_;
 };
 

@@ -47,14 +47,15 @@ RunSummary run_frames(Solver& solver, const FrameLoopConfig& cfg, FrameObserver&
       solver.step(dt);
       info.last_dt = dt;
       ++info.steps;
-      progress.update({f - 1, frames, solver.time(), cfg.end_time, info.steps});
+      progress.update({f - 1, frames, solver.time(), cfg.end_time, info.steps, cfg.bake_time_scale});
     }
     info.frame = f;
     info.time = solver.time();
     observer.on_frame(info, solver);  // which frames get particle files is the observer's choice
-    progress.update({f, frames, solver.time(), cfg.end_time, info.steps}, f == frames);
     log.debug("frame {} t = {:.6f} s steps {} dt {:.3e}", f, info.time, info.steps, info.last_dt);
+    // Before the bar is drawn, so what it shows (the core temperature) is this frame's.
     if (cfg.after_frame && !cfg.after_frame(info, solver) && f < frames) summary.stopped = true;
+    progress.update({f, frames, solver.time(), cfg.end_time, info.steps, cfg.bake_time_scale}, f == frames);
   }
   progress.finish();
   summary.steps = info.steps - cfg.start_steps;

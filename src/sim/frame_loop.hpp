@@ -38,6 +38,8 @@ struct FrameLoopConfig {
   std::function<bool(const FrameInfo&, const Solver&)> after_frame;
   // A step shorter than this is a failure (the state has gone stiff or bad).
   Real min_dt = 1e-10;
+  // > 0: the progress bar counts minutes of bake (bake seconds per simulated second).
+  Real bake_time_scale = 0;
 };
 
 struct RunSummary {

@@ -45,6 +45,13 @@ check '[ "$(cut -d, -f13 "$OUT/set/stats.csv" | sed -n 2p)" = 5 ]' "--set bodies
 check '[ $? -eq 0 ] && cmp -s "$OUT/set/frames/00001.ply" "$OUT/set-again/frames/00001.ply"' "the resolved scene.json re-runs to the same frames"
 "$BAKESIM" validate "$ROOT/tests/data/good_small.json" --set bodies[0].temperature=hot 2>"$OUT/set-bad.txt" >/dev/null
 check '[ $? -eq 2 ] && grep -q "bodies\[0\].temperature: expected a number" "$OUT/set-bad.txt"' "a bad --set value is refused with its key path"
+# A bake: the progress bar counts minutes of oven with the core temperature, the summary says what the bake did.
+"$BAKESIM" run "$ROOT/tests/data/resume_mpm.json" --out "$OUT/bake" --threads 2 2>"$OUT/bake.txt"
+check 'tr "\r" "\n" < "$OUT/bake.txt" | grep -q "100%  bake 1.3/1.3 min  core [0-9.]* degC  frame 20/20"' "the progress bar shows bake minutes and the core temperature"
+core="$(head -1 "$OUT/bake/stats.csv" | tr , '\n' | grep -nx "core_temperature:dough" | cut -d: -f1)"
+last_core="$(tail -1 "$OUT/bake/stats.csv" | cut -d, -f"$core")"
+check 'grep -q "^bake of 1.3 min: dough: core $(printf %.1f "$last_core") degC, crust [0-9.]* degC, volume x[0-9.]*, moisture loss [0-9.]* %" "$OUT/bake.txt"' "the summary ends with the bake's results (core $last_core degC, from stats.csv)"
+check '! grep -q "bake of\\|  bake [0-9]" "$OUT/stderr.txt" && grep -q "t=0.020/0.020 s" "$OUT/stderr.txt"' "a 0.02 s run of water is not called a bake"
 # --end-time overrides the scene and is recorded in the resolved scene.
 "$BAKESIM" run "$ROOT/tests/data/good_small.json" --out "$OUT/short" --end-time 0.01 --quiet
 check 'grep -q "\"end\": 0.01" "$OUT/short/scene.json"' "--end-time recorded in scene.json"
