@@ -33,8 +33,9 @@ bool ends_with(const std::string& s, const std::string& suffix) {
 
 // The top-level entries a run writes (subdirectories hold only the files is_run_file names).
 const std::vector<std::string>& run_entries() {
-  static const std::vector<std::string> names{"scene.json",  "stats.csv", "log.txt", "particles.pvd", "frames",
-                                              "checkpoints", "meshes",    "render",  "plots",         kRunMarkerFile};
+  static const std::vector<std::string> names{"scene.json",    "stats.csv", "stats.units.csv", "log.txt",
+                                              "particles.pvd", "frames",    "checkpoints",     "meshes",
+                                              "render",        "plots",     kRunMarkerFile};
   return names;
 }
 

@@ -56,6 +56,34 @@ std::optional<double> parse_number(const std::string& s) {
   return v;
 }
 
+// The unit of a stats.csv column ("" for counts and ratios), for stats.units.csv.
+std::string column_unit(const std::string& column, const ParticleSet& ps) {
+  static const std::vector<std::pair<std::string, std::string>> exact = {
+      {"time", "s"},        {"steps", ""},      {"dt", "s"},        {"particles", ""},     {"kinetic_energy", "J"},
+      {"max_speed", "m/s"}, {"wall_time", "s"}, {"bake_time", "s"}, {"water_total", "kg"}, {"water_evaporated", "kg"},
+      {"heat_in", "J"}};
+  for (const auto& [name, unit] : exact)
+    if (column == name) return unit;
+  if (column.size() == 5 && (column.rfind("min_", 0) == 0 || column.rfind("max_", 0) == 0)) return "m";
+  static const std::vector<std::pair<std::string, std::string>> prefixed = {{"volume:", "m3"},
+                                                                            {"height:", "m"},
+                                                                            {"core_temperature:", "degC"},
+                                                                            {"crust_temperature:", "degC"},
+                                                                            {"water:", "kg"},
+                                                                            {"moisture_loss_percent:", "%"},
+                                                                            {"co2_mol:", "mol"}};
+  for (const auto& [prefix, unit] : prefixed)
+    if (column.rfind(prefix, 0) == 0) return unit;
+  if (column.find("temperature") != std::string::npos && column.find(':') == std::string::npos) return "degC";
+  if (column.rfind("probe:", 0) == 0) {
+    const std::string quantity = column.substr(column.rfind(':') + 1);
+    if (quantity == "speed" || quantity.rfind("velocity_", 0) == 0) return "m/s";
+    for (const auto& a : ps.scalars())
+      if (a.info.name == quantity) return a.info.unit;
+  }
+  return "";
+}
+
 // Unit vector against gravity (the loaf's "up"); +y without gravity.
 Vec3 up_direction(const Scene& scene) {
   const Vec3 g = scene.gravity;
@@ -117,7 +145,14 @@ void RunOutput::on_frame(const FrameInfo& info, const Solver& solver) {
     // Solver-specific columns (MPM: the mixture's water and heat totals) join the header on the first frame.
     std::string names;
     for (const auto& [name, value] : extra) names += "," + name;
-    write_file_atomic(dir_ / "stats.csv", stats_header() + names + "\n");
+    const std::string header = stats_header() + names;
+    // The units for tools (pandas, a spreadsheet): one row per column of stats.csv.
+    std::string units = "column,unit\n";
+    std::istringstream columns(header);
+    for (std::string column; std::getline(columns, column, ',');)
+      units += column + "," + column_unit(column, ps) + "\n";
+    write_file_atomic(dir_ / "stats.units.csv", units);
+    write_file_atomic(dir_ / "stats.csv", header + "\n");
     header_written_ = true;
   }
   const FrameStats s = compute_frame_stats(ps);

@@ -5,6 +5,7 @@
 //   frames/NNNNN.vtu    VTK XML per written frame, with particles.pvd listing them
 //   meshes/NNNNN.*      surface meshes of written frames when output.mesh.enabled
 //   stats.csv           one row per frame, appended (and flushed) per frame
+//   stats.units.csv     the unit of each stats.csv column ("column,unit")
 //   log.txt             the run's log, appended per frame
 // Every other file is written atomically (temporary name, then rename). A
 // crash can leave stats.csv or log.txt with an unfinished last line, never an

@@ -45,6 +45,11 @@ check '[ "$(cut -d, -f13 "$OUT/set/stats.csv" | sed -n 2p)" = 5 ]' "--set bodies
 check '[ $? -eq 0 ] && cmp -s "$OUT/set/frames/00001.ply" "$OUT/set-again/frames/00001.ply"' "the resolved scene.json re-runs to the same frames"
 "$BAKESIM" validate "$ROOT/tests/data/good_small.json" --set bodies[0].temperature=hot 2>"$OUT/set-bad.txt" >/dev/null
 check '[ $? -eq 2 ] && grep -q "bodies\[0\].temperature: expected a number" "$OUT/set-bad.txt"' "a bad --set value is refused with its key path"
+# stats.units.csv: one row per stats.csv column, in order, with its unit.
+check '[ "$(tail -n +2 "$OUT/run/stats.units.csv" | cut -d, -f1 | paste -sd,)" = "$header" ]' "stats.units.csv lists every stats.csv column in order"
+for pair in time,s dt,s kinetic_energy,J max_speed,m/s min_y,m mean_temperature,degC volume:block,m3 height:block,m core_temperature:block,degC; do
+  check 'grep -qx "$pair" "$OUT/run/stats.units.csv"' "stats.units.csv: $pair"
+done
 # A bake: the progress bar counts minutes of oven with the core temperature, the summary says what the bake did.
 "$BAKESIM" run "$ROOT/tests/data/resume_mpm.json" --out "$OUT/bake" --threads 2 2>"$OUT/bake.txt"
 check 'tr "\r" "\n" < "$OUT/bake.txt" | grep -q "100%  bake 1.3/1.3 min  core [0-9.]* degC  frame 20/20"' "the progress bar shows bake minutes and the core temperature"

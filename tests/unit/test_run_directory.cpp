@@ -75,7 +75,7 @@ TEST(FrameNumbers, CheckpointsPastFrame99999ListAndPruneByNumber) {
 }
 
 TEST(RunDirectory, NamesTheFilesARunWrites) {
-  for (const char* ours : {"scene.json", "stats.csv", "log.txt", "particles.pvd", "bakesim-run.json",
+  for (const char* ours : {"scene.json", "stats.csv", "stats.units.csv", "log.txt", "particles.pvd", "bakesim-run.json",
                            "frames/00012.ply", "frames/123456.vtu", "checkpoints/00003.ckpt", "meshes/00001.obj",
                            "meshes/gradient_baking.png", "meshes/bakesim_heat.mtl", "render/mesh-00001.png",
                            "render/mesh.mp4", "plots/volume.png", "frames/.00099.ply.tmp4242"})
