@@ -131,6 +131,21 @@ double body_size(const json& shape) {
   return size;
 }
 
+// Mesh files named relative to the scene file become absolute in the
+// resolved scene, so the run's scene.json re-runs from its run directory (and
+// a copied run resumes). Shapes nest at most 64 deep (the schema's limit).
+void absolute_mesh_paths(json& shape, const fs::path& base_dir, int depth = 0) {
+  if (!shape.is_object() || depth > 64) return;
+  if (shape.value("type", "") == "mesh" && shape.contains("file") && shape["file"].is_string()) {
+    const fs::path file = shape["file"].get<std::string>();
+    if (file.is_relative() && !file.empty()) shape["file"] = fs::absolute(base_dir / file).lexically_normal().string();
+  }
+  for (const char* nested : {"shapes", "subtract"})
+    if (shape.contains(nested) && shape[nested].is_array())
+      for (auto& s : shape[nested]) absolute_mesh_paths(s, base_dir, depth + 1);
+  if (shape.contains("base")) absolute_mesh_paths(shape["base"], base_dir, depth + 1);
+}
+
 // Temperatures of an oven, a tray or a hob above this look typed in kelvin or
 // °F (a pizza oven reaches 450 °C, so they are warnings, not errors).
 constexpr double kPlausibleHotDegC = 300;
@@ -258,6 +273,14 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::s
   }
   if (!doc.is_object()) throw InputError(file, "a scene must be a JSON object");
   for (const SceneOverride& o : overrides) apply_override(doc, o);
+  for (const char* list : {"bodies", "colliders"})
+    if (doc.contains(list) && doc[list].is_array())
+      for (auto& item : doc[list])
+        if (item.is_object()) {
+          if (item.contains("shape")) absolute_mesh_paths(item["shape"], base_dir);
+          if (item.contains("bubbles") && item["bubbles"].is_object() && item["bubbles"].contains("region"))
+            absolute_mesh_paths(item["bubbles"]["region"], base_dir);
+        }
   apply_material_presets(doc);
   scene_schema().validate(doc, file);
 

@@ -57,6 +57,11 @@ core="$(head -1 "$OUT/bake/stats.csv" | tr , '\n' | grep -nx "core_temperature:d
 last_core="$(tail -1 "$OUT/bake/stats.csv" | cut -d, -f"$core")"
 check 'grep -q "^bake of 1.3 min: dough: core $(printf %.1f "$last_core") degC, crust [0-9.]* degC, volume x[0-9.]*, moisture loss [0-9.]* %" "$OUT/bake.txt"' "the summary ends with the bake's results (core $last_core degC, from stats.csv)"
 check '! grep -q "bake of\\|  bake [0-9]" "$OUT/stderr.txt" && grep -q "t=0.020/0.020 s" "$OUT/stderr.txt"' "a 0.02 s run of water is not called a bake"
+# A run's scene.json re-runs from its own directory also when the scene has meshes (their paths are made absolute).
+"$BAKESIM" run "$ROOT/scenes/viscous-funnel.json" --out "$OUT/funnel" --end-time 0.01 --quiet
+check 'grep -q "\"file\": \"/.*/scenes/meshes/funnel.obj\"" "$OUT/funnel/scene.json"' "mesh paths in the resolved scene are absolute"
+(cd "$OUT/funnel" && "$BAKESIM" run scene.json --out "$OUT/funnel-again" --quiet)
+check '[ $? -eq 0 ] && cmp -s "$OUT/funnel/frames/00001.ply" "$OUT/funnel-again/frames/00001.ply"' "a run's scene.json with meshes re-runs from its run directory to the same frames"
 # --end-time overrides the scene and is recorded in the resolved scene.
 "$BAKESIM" run "$ROOT/tests/data/good_small.json" --out "$OUT/short" --end-time 0.01 --quiet
 check 'grep -q "\"end\": 0.01" "$OUT/short/scene.json"' "--end-time recorded in scene.json"
