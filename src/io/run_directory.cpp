@@ -23,20 +23,22 @@ using nlohmann::json;
 
 namespace {
 
-bool all_digits(const std::string& s) {
-  return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; });
-}
-bool starts_with(const std::string& s, const std::string& prefix) { return s.rfind(prefix, 0) == 0; }
-bool ends_with(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+// The subdirectories a run (and mesh, render, plot) writes; they hold only the files is_run_file names.
+const std::vector<std::string> kRunSubdirectories{"frames", "checkpoints", "meshes", "render", "plots"};
+
+// The top-level entries a run writes: its files and its subdirectories.
+const std::vector<std::string>& run_entries() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> n{"scene.json", "stats.csv",     "stats.units.csv",
+                               "log.txt",    "particles.pvd", kRunMarkerFile};
+    n.insert(n.end(), kRunSubdirectories.begin(), kRunSubdirectories.end());
+    return n;
+  }();
+  return names;
 }
 
-// The top-level entries a run writes (subdirectories hold only the files is_run_file names).
-const std::vector<std::string>& run_entries() {
-  static const std::vector<std::string> names{"scene.json",    "stats.csv", "stats.units.csv", "log.txt",
-                                              "particles.pvd", "frames",    "checkpoints",     "meshes",
-                                              "render",        "plots",     kRunMarkerFile};
-  return names;
+bool contains(const std::vector<std::string>& names, const std::string& name) {
+  return std::find(names.begin(), names.end(), name) != names.end();
 }
 
 std::string quoted_list(const std::vector<std::string>& names, std::size_t at_most = 4) {
@@ -154,22 +156,21 @@ bool is_run_file(const fs::path& relative) {
   const std::string name = relative.filename().string();
   const std::string stem = relative.stem().string(), ext = relative.extension().string();
   if (is_atomic_temporary(name)) return true;
-  if (dir.empty())
-    return name != "frames" && name != "checkpoints" && name != "meshes" && name != "render" && name != "plots" &&
-           std::find(run_entries().begin(), run_entries().end(), name) != run_entries().end();
-  if (dir == "frames") return all_digits(stem) && (ext == ".ply" || ext == ".vtu");
-  if (dir == "checkpoints") return all_digits(stem) && ext == ".ckpt";
+  if (dir.empty()) return contains(run_entries(), name) && !contains(kRunSubdirectories, name);
+  const bool numbered = frame_number(stem).has_value();
+  if (dir == "frames") return numbered && (ext == ".ply" || ext == ".vtu");
+  if (dir == "checkpoints") return numbered && ext == ".ckpt";
   if (dir == "meshes")
-    return (all_digits(stem) && (ext == ".ply" || ext == ".obj")) ||
-           (starts_with(name, "gradient_") && ext == ".png") || (starts_with(name, "bakesim_") && ext == ".mtl");
-  if (dir == "render") return ext == ".png" || ends_with(name, ".mp4") || ends_with(name, ".ffconcat.txt");
+    return (numbered && (ext == ".ply" || ext == ".obj")) || (name.starts_with("gradient_") && ext == ".png") ||
+           (name.starts_with("bakesim_") && ext == ".mtl");
+  if (dir == "render") return ext == ".png" || name.ends_with(".mp4") || name.ends_with(".ffconcat.txt");
   if (dir == "plots") return ext == ".png";
   return false;
 }
 
 int remove_run_temporaries(const fs::path& dir) {
   int removed = remove_atomic_temporaries(dir);
-  for (const char* sub : {"frames", "checkpoints", "meshes", "render", "plots"}) {
+  for (const std::string& sub : kRunSubdirectories) {
     std::error_code ec;
     if (fs::is_directory(fs::symlink_status(dir / sub, ec))) removed += remove_atomic_temporaries(dir / sub);
   }
@@ -247,8 +248,7 @@ RunDirectoryClaim claim_new_run(const fs::path& dir, const std::string& scene_na
   if (kind == Kind::foreign) {
     std::vector<std::string> clashes;
     for (const auto& e : entries)
-      if (std::find(run_entries().begin(), run_entries().end(), e) != run_entries().end() || e == kPreviousRunDir)
-        clashes.push_back(e);
+      if (contains(run_entries(), e) || e == kPreviousRunDir) clashes.push_back(e);
     if (!force)
       throw InputError(dir.string(),
                        fmt::format("is not empty and is not a bakesim run directory (it holds {}): choose a new or "

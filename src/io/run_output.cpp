@@ -64,7 +64,7 @@ std::string column_unit(const std::string& column, const ParticleSet& ps) {
       {"heat_in", "J"}};
   for (const auto& [name, unit] : exact)
     if (column == name) return unit;
-  if (column.size() == 5 && (column.rfind("min_", 0) == 0 || column.rfind("max_", 0) == 0)) return "m";
+  if (column.size() == 5 && (column.starts_with("min_") || column.starts_with("max_"))) return "m";
   static const std::vector<std::pair<std::string, std::string>> prefixed = {{"volume:", "m3"},
                                                                             {"height:", "m"},
                                                                             {"core_temperature:", "degC"},
@@ -73,11 +73,11 @@ std::string column_unit(const std::string& column, const ParticleSet& ps) {
                                                                             {"moisture_loss_percent:", "%"},
                                                                             {"co2_mol:", "mol"}};
   for (const auto& [prefix, unit] : prefixed)
-    if (column.rfind(prefix, 0) == 0) return unit;
+    if (column.starts_with(prefix)) return unit;
   if (column.find("temperature") != std::string::npos && column.find(':') == std::string::npos) return "degC";
-  if (column.rfind("probe:", 0) == 0) {
+  if (column.starts_with("probe:")) {
     const std::string quantity = column.substr(column.rfind(':') + 1);
-    if (quantity == "speed" || quantity.rfind("velocity_", 0) == 0) return "m/s";
+    if (quantity == "speed" || quantity.starts_with("velocity_")) return "m/s";
     for (const auto& a : ps.scalars())
       if (a.info.name == quantity) return a.info.unit;
   }
@@ -283,13 +283,14 @@ void RunOutput::resume_after(int frame, std::vector<std::int32_t> follow_ids) {
   if (!pvd_.empty()) write_file_atomic(dir_ / "particles.pvd", encode_pvd(pvd_));
   // Half-written temporaries of the stopped run (killed in the middle of a write).
   remove_run_temporaries(dir_);
-  // Files of frames after the checkpoint.
+  // Files of frames after the checkpoint (bakesim's own only: a user's file there stays).
   for (const char* sub : {"frames", "meshes"}) {
     std::error_code ec;
     if (!fs::is_directory(dir_ / sub, ec)) continue;
     std::vector<fs::path> stale;
     for (const auto& e : fs::directory_iterator(dir_ / sub, ec))
-      if (const auto number = frame_number(e.path().stem().string()); number && *number > frame)
+      if (const auto number = frame_number(e.path().stem().string());
+          number && *number > frame && is_run_file(fs::path(sub) / e.path().filename()))
         stale.push_back(e.path());
     for (const auto& p : stale) fs::remove(p, ec);
   }

@@ -112,25 +112,6 @@ class DuplicateKeyCheck {
   std::vector<Level> stack_;
 };
 
-// The largest extent of a body's shape as the scene gives it (0 for a mesh, whose size is its file's).
-double body_size(const json& shape) {
-  const std::string type = shape.value("type", "");
-  if (type == "box" && shape.contains("min") && shape.contains("max")) {
-    double size = 0;
-    for (int k = 0; k < 3; ++k) size = std::max(size, shape["max"][k].get<double>() - shape["min"][k].get<double>());
-    return size;
-  }
-  if (shape.contains("radius") && shape["radius"].is_number()) {
-    double size = 2 * shape["radius"].get<double>();
-    if (shape.contains("height") && shape["height"].is_number()) size = std::max(size, shape["height"].get<double>());
-    return size;
-  }
-  double size = 0;
-  if (shape.contains("shapes") && shape["shapes"].is_array())
-    for (const auto& s : shape["shapes"]) size = std::max(size, body_size(s));
-  return size;
-}
-
 // Mesh files named relative to the scene file become absolute in the
 // resolved scene, so the run's scene.json re-runs from its run directory (and
 // a copied run resumes). Shapes nest at most 64 deep (the schema's limit).
@@ -152,33 +133,32 @@ constexpr double kPlausibleHotDegC = 300;
 // Bodies larger than this look typed in millimetres.
 constexpr double kPlausibleBodyMetres = 2;
 
-// The highest temperature of a number or a [[t, T], ...] schedule.
-double highest_temperature(const json& j) {
-  if (j.is_number()) return j.get<double>();
+// The highest temperature of a schedule, read by the one schedule parser.
+double highest_temperature(const PiecewiseLinear& schedule) {
   double hottest = -273.15;
-  if (j.is_array())
-    for (const auto& point : j)
-      if (point.is_array() && point.size() == 2 && point[1].is_number())
-        hottest = std::max(hottest, point[1].get<double>());
+  for (const auto& [time, temperature] : schedule.points()) hottest = std::max(hottest, double(temperature));
   return hottest;
 }
 
-std::vector<std::string> plausibility_warnings(const json& doc) {
+// From what the loader built: the oven's schedule, each collider's, each body's shape bounds (meshes included).
+std::vector<std::string> plausibility_warnings(const Ctx& c, const json& doc, const SceneParts& parts) {
   std::vector<std::string> out;
-  auto hot = [&](const std::string& path, const json& j) {
-    const double t = highest_temperature(j);
+  auto hot = [&](const std::string& path, const PiecewiseLinear& schedule) {
+    const double t = highest_temperature(schedule);
     if (t > kPlausibleHotDegC)
       out.push_back(
           fmt::format("{} reaches {:g} degC: bakesim reads degrees Celsius ({:g} K would be {:.0f} degC, "
                       "{:g} degF {:.0f} degC)",
                       path, t, t, t - 273.15, t, (t - 32) / 1.8));
   };
-  hot("environment.air_temperature", doc["environment"]["air_temperature"]);
+  hot("environment.air_temperature", parts.world.oven.air_temperature);
   for (std::size_t i = 0; i < doc["colliders"].size(); ++i)
-    if (!doc["colliders"][i]["temperature"].is_null())
-      hot(fmt::format("colliders[{}].temperature", i), doc["colliders"][i]["temperature"]);
-  for (std::size_t i = 0; i < doc["bodies"].size(); ++i) {
-    const double size = body_size(doc["bodies"][i]["shape"]);
+    if (const json& t = doc["colliders"][i]["temperature"]; !t.is_null()) {
+      const std::string path = fmt::format("colliders[{}].temperature", i);
+      hot(path, build_schedule(c, path, t));
+    }
+  for (std::size_t i = 0; i < parts.bodies.size(); ++i) {
+    const double size = bounds(parts.bodies[i].shape).extent().maxCoeff();
     if (size > kPlausibleBodyMetres)
       out.push_back(
           fmt::format("bodies[{}].shape is about {:g} m across: bakesim reads metres ({:g} mm would be "
@@ -307,8 +287,8 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::s
   if (sc.end_time * sc.fps > 1e6) c.fail("time", "more than a million frames: lower time.fps or time.end");
   require_box(c, "domain", vec3(doc["domain"]["min"]), vec3(doc["domain"]["max"]));
 
-  sc.warnings = plausibility_warnings(doc);
   const SceneParts parts = read_common(c, doc, solver_friction_model(sc.solver_type));
+  sc.warnings = plausibility_warnings(c, doc, parts);
   sc.oven = parts.world.oven;
   sc.gravity = parts.world.gravity;
   // The bodies as the stats columns need them, from the chosen solver's setup
