@@ -91,10 +91,14 @@ std::string printable(const std::string& s) {
   return out;
 }
 
-int command_validate(const std::string& path, const std::vector<std::string>& sets) {
+int command_validate(const std::string& path, const std::vector<std::string>& sets, bool print_resolved) {
   Scene scene = load_scene(path, parse_overrides(sets));
   for (const auto& w : scene.warnings) fmt::print(stderr, "bakesim: warning: {}\n", printable(w));
   auto solver = make_solver(scene);
+  if (print_resolved) {
+    std::cout << scene.resolved.dump(2) << "\n";
+    return kExitOk;
+  }
   std::cout << describe(scene, *solver);
   std::cout << "scene is valid\n";
   return kExitOk;
@@ -163,6 +167,7 @@ int command_run(const RunArgs& a) {
   auto& L = log.logger();
   L.info("bakesim {} run of {} ({} threads of {})", BAKESIM_VERSION, a.resume.empty() ? a.scene : a.resume, threads,
          hw);
+  for (const auto& base : scene.extends) L.info("extends {}", base);
   for (const auto& s : a.sets) L.info("--set {}", s);
   for (const auto& w : scene.warnings) L.warn("{}", w);  // echoed to stderr unless --quiet
   auto solver = make_solver(scene);
@@ -429,6 +434,10 @@ int main(int argc, char** argv) {
   auto* validate = app.add_subcommand("validate", "Check a scene and print what it would simulate");
   validate->add_option("scene", validate_path, "Scene file (JSON)")->required();
   validate->add_option("--set", validate_sets, "Change a scene value: KEY.PATH=VALUE (as for run)");
+  bool validate_resolved = false;
+  validate->add_flag("--resolved", validate_resolved,
+                     "Print the resolved scene as JSON (bases merged, --set applied, every default filled in): what a "
+                     "run writes as scene.json");
 
   BenchOptions bench_opt;
   std::string bench_particles, bench_threads, bench_search = "grid,kdtree", bench_models = "elastic,viscoplastic";
@@ -511,7 +520,7 @@ int main(int argc, char** argv) {
         throw InputError("run", "give a scene file, or --resume RUN_DIR");
       return command_run(run_args);
     }
-    if (*validate) return command_validate(validate_path, validate_sets);
+    if (*validate) return command_validate(validate_path, validate_sets, validate_resolved);
     if (*mesh) return command_mesh(mesh_args);
     if (*render_cmd) {
       const int threads = render_threads > 0 ? render_threads : static_cast<int>(tbb::info::default_concurrency());

@@ -8,7 +8,7 @@ BIN=$(realpath "$1"); OUT=$2; THREADS=${3:-2}
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 mkdir -p "$OUT"
 # Implicit heat: the cookie with heat "implicit" (no shipped MPM scene uses it).
-/usr/bin/python3 - "$ROOT/scenes/cookie-oven-180.json" "$OUT/cookie-implicit.json" <<'PY'
+/usr/bin/python3 - "$ROOT/scenes/cookie.json" "$OUT/cookie-implicit.json" <<'PY'
 import json, sys
 d = json.load(open(sys.argv[1])); d["solver"]["mpm"]["heat"] = "implicit"; d["name"] = "cookie-implicit"
 json.dump(d, open(sys.argv[2], "w"), indent=1)

@@ -153,7 +153,7 @@ std::vector<std::string> plausibility_warnings(const Ctx& c, const json& doc, co
   };
   hot("environment.air_temperature", parts.world.oven.air_temperature);
   for (std::size_t i = 0; i < doc["colliders"].size(); ++i)
-    if (const json& t = doc["colliders"][i]["temperature"]; !t.is_null()) {
+    if (const json& t = doc["colliders"][i]["temperature"]; t.is_number() || t.is_array()) {
       const std::string path = fmt::format("colliders[{}].temperature", i);
       hot(path, build_schedule(c, path, t));
     }
@@ -174,6 +174,34 @@ std::vector<std::string> plausibility_warnings(const Ctx& c, const json& doc, co
 // its defaults (refusing keys the chosen solver does not read); the parts both
 // solvers read the same way are read once (scene_parts.cpp); the chosen
 // solver's setup is built from them in its own file (scene_sph.cpp, scene_mpm.cpp).
+namespace {
+
+// "key", "key[0]", "key[0][1]" separated by dots: object keys, and array indices as "[N]".
+std::vector<std::string> split_key_path(const std::string& path, const std::string& where) {
+  std::vector<std::string> keys;
+  std::size_t at = 0;
+  while (at <= path.size()) {
+    const std::size_t dot = std::min(path.find('.', at), path.size());
+    std::string part = path.substr(at, dot - at);
+    const std::size_t bracket = part.find('[');
+    const std::string key = part.substr(0, bracket);
+    if (key.empty()) throw InputError(where, "an empty key in '" + path + "'");
+    keys.push_back(key);
+    for (std::size_t b = bracket; b != std::string::npos; b = part.find('[', b + 1)) {
+      const std::size_t close = part.find(']', b);
+      const std::string digits = close == std::string::npos ? "" : part.substr(b + 1, close - b - 1);
+      if (digits.empty() || digits.size() > 6 || digits.find_first_not_of("0123456789") != std::string::npos ||
+          (close + 1 < part.size() && part[close + 1] != '['))
+        throw InputError(where, "a malformed array index in '" + path + "' (write bodies[0].temperature)");
+      keys.push_back("[" + digits + "]");
+    }
+    at = dot + 1;
+  }
+  return keys;
+}
+
+}  // namespace
+
 SceneOverride parse_override(const std::string& text) {
   const std::size_t eq = text.find('=');
   if (eq == std::string::npos || eq == 0)
@@ -181,25 +209,7 @@ SceneOverride parse_override(const std::string& text) {
   SceneOverride o;
   o.path = text.substr(0, eq);
   const std::string value = text.substr(eq + 1);
-  // "key", "key[0]", "key[0][1]" separated by dots.
-  std::size_t at = 0;
-  while (at <= o.path.size()) {
-    const std::size_t dot = std::min(o.path.find('.', at), o.path.size());
-    std::string part = o.path.substr(at, dot - at);
-    const std::size_t bracket = part.find('[');
-    const std::string key = part.substr(0, bracket);
-    if (key.empty()) throw InputError("--set", "an empty key in '" + o.path + "'");
-    o.keys.push_back(key);
-    for (std::size_t b = bracket; b != std::string::npos; b = part.find('[', b + 1)) {
-      const std::size_t close = part.find(']', b);
-      const std::string digits = close == std::string::npos ? "" : part.substr(b + 1, close - b - 1);
-      if (digits.empty() || digits.size() > 6 || digits.find_first_not_of("0123456789") != std::string::npos ||
-          (close + 1 < part.size() && part[close + 1] != '['))
-        throw InputError("--set", "a malformed array index in '" + o.path + "' (write bodies[0].temperature)");
-      o.keys.push_back("[" + digits + "]");
-    }
-    at = dot + 1;
-  }
+  o.keys = split_key_path(o.path, "--set");
   try {
     o.value = json::parse(value);
   } catch (const json::exception&) {
@@ -233,10 +243,7 @@ void apply_override(json& doc, const SceneOverride& o) {
   }
 }
 
-}  // namespace
-
-Scene parse_scene(const std::string& text, const std::string& file, const std::string& base_dir,
-                  const std::vector<SceneOverride>& overrides) {
+json parse_document(const std::string& text, const std::string& file) {
   json doc;
   try {
     doc = json::parse(text, DuplicateKeyCheck(file), true, /*ignore_comments=*/true);
@@ -252,7 +259,10 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::s
     throw InputError(file, std::string("JSON error: ") + e.what());
   }
   if (!doc.is_object()) throw InputError(file, "a scene must be a JSON object");
-  for (const SceneOverride& o : overrides) apply_override(doc, o);
+  return doc;
+}
+
+void absolute_mesh_paths_of_scene(json& doc, const fs::path& base_dir) {
   for (const char* list : {"bodies", "colliders"})
     if (doc.contains(list) && doc[list].is_array())
       for (auto& item : doc[list])
@@ -261,6 +271,83 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::s
           if (item.contains("bubbles") && item["bubbles"].is_object() && item["bubbles"].contains("region"))
             absolute_mesh_paths(item["bubbles"]["region"], base_dir);
         }
+}
+
+// A chain of scene files, each extending the next: deeper than this is a mistake.
+constexpr int kMaxExtendsDepth = 16;
+
+// One file of an "extends" chain as it was read, to tell which file a key came from.
+struct SceneLayer {
+  std::string file;
+  json doc;
+};
+
+// "extends": "base.json" reads the base (relative to the extending file) and
+// lays this document over it as a JSON merge patch (RFC 7386): objects merge
+// key by key, any other value (a number, a list) replaces the base's, null
+// removes the base's key. Mesh paths are made absolute against the file that
+// names them before merging. The base's name is not inherited.
+json resolve_extends(json doc, const std::string& file, const fs::path& base_dir, std::vector<SceneLayer>& layers,
+                     std::vector<fs::path>& chain) {
+  absolute_mesh_paths_of_scene(doc, base_dir);
+  layers.push_back({file, doc});
+  if (!doc.contains("extends")) return doc;
+  const json extends = doc["extends"];
+  doc.erase("extends");
+  layers.back().doc = doc;
+  if (!extends.is_string() || extends.get<std::string>().empty())
+    throw InputError(file + ": extends", "must be the path of the scene file this one builds on (relative to " +
+                                             std::string("this file), got ") + extends.dump());
+  const fs::path base_file = base_dir / fs::path(extends.get<std::string>());
+  std::error_code ec;
+  if (!fs::exists(base_file, ec)) throw InputError(file + ": extends", "no such scene file: " + base_file.string());
+  const fs::path key = fs::weakly_canonical(base_file, ec);
+  std::string route;
+  for (const auto& f : chain) route += f.filename().string() + " -> ";
+  if (std::find(chain.begin(), chain.end(), key) != chain.end())
+    throw InputError(file + ": extends", "the files extend each other in a circle: " + route + key.filename().string());
+  if (static_cast<int>(chain.size()) > kMaxExtendsDepth)
+    throw InputError(file + ": extends", fmt::format("more than {} files extend each other", kMaxExtendsDepth));
+  chain.push_back(key);
+  if (fs::is_directory(base_file, ec)) throw InputError(file + ": extends", base_file.string() + " is a directory");
+  json base = parse_document(read_file(base_file, std::uintmax_t(64) << 20), base_file.string());
+  const std::string parent = base_file.parent_path().string();
+  base = resolve_extends(std::move(base), base_file.string(), parent.empty() ? "." : parent, layers, chain);
+  base.erase("name");  // a variant is a scene of its own: its name, or its file's
+  base.merge_patch(doc);
+  return base;
+}
+
+// The file of an "extends" chain that gave the value at a key path: the first,
+// from the extending file down, that holds the path (or a list or value on the
+// way to it, which it replaces whole). Values none holds are defaults: the top file.
+const std::string& file_of_key(const std::vector<SceneLayer>& layers, const std::string& path) {
+  std::vector<std::string> keys;
+  try {
+    keys = split_key_path(path, "");
+  } catch (const InputError&) {
+    return layers.front().file;
+  }
+  for (const SceneLayer& layer : layers) {
+    const json* node = &layer.doc;
+    bool held = true;
+    for (const std::string& k : keys) {
+      if (!node->is_object()) break;  // a list or a value that replaces the base's whole
+      if (k[0] == '[' || !node->contains(k)) {
+        held = false;
+        break;
+      }
+      node = &(*node)[k];
+    }
+    if (held) return layer.file;
+  }
+  return layers.front().file;
+}
+
+Scene build_scene(json doc, const std::string& file, const std::string& base_dir,
+                  const std::vector<SceneOverride>& overrides, std::vector<std::string> extends) {
+  for (const SceneOverride& o : overrides) apply_override(doc, o);
+  absolute_mesh_paths_of_scene(doc, base_dir);
   apply_material_presets(doc);
   scene_schema().validate(doc, file);
 
@@ -317,8 +404,32 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::s
   }
   sc.output.particle_formats = doc["output"]["particles"].get<std::vector<std::string>>();
   sc.output.every_frames = doc["output"]["every_frames"].get<int>();
+  sc.extends = std::move(extends);
   sc.resolved = std::move(doc);
   return sc;
+}
+
+}  // namespace
+
+Scene parse_scene(const std::string& text, const std::string& file, const std::string& base_dir,
+                  const std::vector<SceneOverride>& overrides) {
+  std::vector<SceneLayer> layers;
+  std::vector<fs::path> chain{fs::weakly_canonical(fs::path(file))};
+  json doc = resolve_extends(parse_document(text, file), file, base_dir, layers, chain);
+  if (layers.size() == 1) return build_scene(std::move(doc), file, base_dir, overrides, {});
+  std::vector<std::string> extends;
+  for (std::size_t i = 1; i < layers.size(); ++i) extends.push_back(layers[i].file);
+  try {
+    return build_scene(std::move(doc), file, base_dir, overrides, extends);
+  } catch (const InputError& e) {
+    // An error at a key the base file gave names the base file.
+    const std::string prefix = file + ": ";
+    if (!e.where().starts_with(prefix)) throw;
+    const std::string path = e.where().substr(prefix.size());
+    const std::string& from = file_of_key(layers, path);
+    if (from == file) throw;
+    throw InputError(from + ": " + path, e.detail() + " (in " + file + ", which extends " + from + ")");
+  }
 }
 
 Scene load_scene(const std::string& path, const std::vector<SceneOverride>& overrides) {
@@ -356,6 +467,7 @@ std::string describe(const Scene& scene, Solver& solver) {
   std::string out;
   out += fmt::format("scene      {} ({})\n", scene.name, scene.file);
   if (!scene.description.empty()) out += fmt::format("           {}\n", scene.description);
+  for (const auto& base : scene.extends) out += fmt::format("extends    {}\n", base);
   out += fmt::format("solver     {}\n", scene.solver_type);
   const int frames = static_cast<int>(std::ceil(scene.end_time * scene.fps - 1e-9));
   out += fmt::format("time       {} s at {} fps: {} frames\n", scene.end_time, scene.fps, frames);

@@ -66,9 +66,9 @@ mpm::Material build_material(const Ctx& c, const std::string& name, const json& 
   return mat;
 }
 
-Collider build_grid_collider(const Ctx& c, const json& cj, std::size_t i, Real cell) {
+Collider build_grid_collider(const Ctx& c, const json& cj, std::size_t i, Real cell, const Oven& oven) {
   const std::string path = fmt::format("colliders[{}]", i);
-  Collider col = build_collider(c, cj, i, cell, FrictionModel::coulomb);
+  Collider col = build_collider(c, cj, i, cell, FrictionModel::coulomb, oven);
   // A cup or container wall under two cells thick has grid nodes inside it
   // that are nearer its far face: their contact normal points the wrong way
   // and material sinks into the wall (the muffin cups did).
@@ -137,7 +137,7 @@ mpm::Setup build_mpm_setup(const Ctx& c, const json& doc, const SceneParts& part
   require_memory(c, "solver.mpm.cell_size", 500.0 * points + 170.0 * nodes,
                  fmt::format("about {:.3g} material points and {:.3g} grid nodes", points, nodes));
   for (std::size_t i = 0; i < doc["colliders"].size(); ++i)
-    setup.colliders.push_back(build_grid_collider(c, doc["colliders"][i], i, st.cell_size));
+    setup.colliders.push_back(build_grid_collider(c, doc["colliders"][i], i, st.cell_size, parts.world.oven));
   st.heat = heat_method(mj["heat"].get<std::string>(), setup);
   return setup;
 }

@@ -182,7 +182,8 @@ FrictionModel friction_model(const json& j, FrictionModel solver_default) {
   return solver_default;
 }
 
-Collider build_collider(const Ctx& c, const json& cj, std::size_t i, Real cell, FrictionModel solver_default) {
+Collider build_collider(const Ctx& c, const json& cj, std::size_t i, Real cell, FrictionModel solver_default,
+                        const Oven& oven) {
   const std::string path = fmt::format("colliders[{}]", i);
   Collider col;
   col.name = cj["name"].get<std::string>();
@@ -195,7 +196,10 @@ Collider build_collider(const Ctx& c, const json& cj, std::size_t i, Real cell, 
   col.contact.friction = cj["friction"].get<double>();
   col.contact.damping = cj["damping"].get<double>();
   if (cj.contains("motion")) col.motion = build_motion(c, path + ".motion", cj["motion"]);
-  if (!cj["temperature"].is_null()) col.temperature = build_schedule(c, path + ".temperature", cj["temperature"]);
+  if (cj["temperature"].is_string())  // "oven" (the schema admits no other string)
+    col.temperature = oven.air_temperature;
+  else if (!cj["temperature"].is_null())
+    col.temperature = build_schedule(c, path + ".temperature", cj["temperature"]);
   col.heat_transfer_coefficient = cj["heat_transfer_coefficient"].get<double>();
   return col;
 }

@@ -135,7 +135,7 @@ sph::Setup build_sph_setup(const Ctx& c, json& doc, const SceneParts& parts) {
   const Real h = st.spacing * st.smoothing_ratio;
   for (std::size_t i = 0; i < doc["colliders"].size(); ++i) {
     const json& cj = doc["colliders"][i];
-    Collider col = build_collider(c, cj, i, h, FrictionModel::velocity_share);
+    Collider col = build_collider(c, cj, i, h, FrictionModel::velocity_share, parts.world.oven);
     if (cj.contains("motion") && std::holds_alternative<MeshCollider>(col.geometry))
       c.fail(fmt::format("colliders[{}].motion", i),
              "moving mesh colliders are available for the MPM solver only (SPH moves analytic colliders: plane, "

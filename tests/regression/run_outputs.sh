@@ -62,6 +62,18 @@ check '! grep -q "bake of\\|  bake [0-9]" "$OUT/stderr.txt" && grep -q "t=0.020/
 check 'grep -q "\"file\": \"/.*/scenes/meshes/funnel.obj\"" "$OUT/funnel/scene.json"' "mesh paths in the resolved scene are absolute"
 (cd "$OUT/funnel" && "$BAKESIM" run scene.json --out "$OUT/funnel-again" --quiet)
 check '[ $? -eq 0 ] && cmp -s "$OUT/funnel/frames/00001.ply" "$OUT/funnel-again/frames/00001.ply"' "a run's scene.json with meshes re-runs from its run directory to the same frames"
+# "extends": a variant in another folder builds on a base; the run's scene.json stands alone and re-runs.
+mkdir -p "$OUT/variants"
+printf '{"extends": "%s", "name": "warm", "environment": {"air_temperature": 60}}\n' \
+  "$ROOT/tests/data/good_small.json" > "$OUT/variants/warm.json"
+"$BAKESIM" validate "$OUT/variants/warm.json" > "$OUT/warm-validate.txt"
+check '[ $? -eq 0 ] && grep -q "^extends    .*good_small.json" "$OUT/warm-validate.txt"' "validate names the base a variant extends"
+"$BAKESIM" validate "$OUT/variants/warm.json" --resolved > "$OUT/warm-resolved.json"
+check 'grep -q "\"air_temperature\": 60" "$OUT/warm-resolved.json" && ! grep -q extends "$OUT/warm-resolved.json"' "validate --resolved prints the merged scene"
+(cd "$OUT/variants" && "$BAKESIM" run warm.json --out "$OUT/warm" --end-time 0.02 --quiet)
+check '[ $? -eq 0 ] && grep -q "extends .*good_small.json" "$OUT/warm/log.txt" && ! grep -q extends "$OUT/warm/scene.json"' "a variant runs; log.txt names its base, scene.json has it merged in"
+"$BAKESIM" run "$OUT/warm/scene.json" --out "$OUT/warm-again" --quiet
+check '[ $? -eq 0 ] && cmp -s "$OUT/warm/frames/00001.ply" "$OUT/warm-again/frames/00001.ply"' "a variant's resolved scene.json re-runs to the same frames"
 # --end-time overrides the scene and is recorded in the resolved scene.
 "$BAKESIM" run "$ROOT/tests/data/good_small.json" --out "$OUT/short" --end-time 0.01 --quiet
 check 'grep -q "\"end\": 0.01" "$OUT/short/scene.json"' "--end-time recorded in scene.json"

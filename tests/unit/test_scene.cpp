@@ -529,3 +529,111 @@ TEST(Scene, OverridesChangeTheDocumentBeforeItIsChecked) {
   EXPECT_THROW(parse_override("bodies[a].x=1"), InputError);
   EXPECT_THROW(parse_override("bodies..x=1"), InputError);
 }
+
+namespace {
+
+// A folder of scene files for the "extends" tests, emptied first.
+std::filesystem::path scene_folder(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() / name;
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+void write_json(const std::filesystem::path& file, const json& doc) {
+  std::filesystem::create_directories(file.parent_path());
+  std::ofstream(file) << doc.dump(2);
+}
+
+}  // namespace
+
+// Issue 22 item 2: "extends" lays a variant over a base scene (RFC 7386 merge patch).
+TEST(Scene, ExtendsMergesTheVariantOverItsBase) {
+  const auto dir = scene_folder("bakesim_test_extends");
+  json base = base_scene();
+  base["name"] = "base";
+  base["environment"] = {{"air_temperature", 180}, {"heat_transfer_coefficient", 25}};
+  base["output"] = {{"particles", {"ply"}}};
+  write_json(dir / "base" / "base.json", base);
+  write_json(dir / "variant.json", {{"extends", "base/base.json"},
+                                    {"environment", {{"air_temperature", 150}}},
+                                    {"materials", {{"water", {{"viscosity", 0.002}}}}},
+                                    {"output", nullptr}});
+  const Scene s = load_scene((dir / "variant.json").string());
+  const json& r = s.resolved;
+  EXPECT_EQ(r["environment"]["air_temperature"], 150);         // the variant's value
+  EXPECT_EQ(r["environment"]["heat_transfer_coefficient"], 25);  // kept from the base
+  EXPECT_EQ(r["materials"]["water"]["density"], 1000);          // objects merge key by key
+  EXPECT_EQ(r["materials"]["water"]["viscosity"], 0.002);
+  EXPECT_EQ(r["output"]["particles"], json::array({"ply", "vtu"}));  // null removes: the default again
+  EXPECT_EQ(s.name, "variant");                                      // the base's name is not inherited
+  EXPECT_FALSE(r.contains("extends"));                               // the resolved scene stands alone
+  ASSERT_EQ(s.extends.size(), 1u);
+  EXPECT_NE(s.extends[0].find("base.json"), std::string::npos);
+  // Lists are replaced whole; --set comes after the merge.
+  write_json(dir / "two.json", {{"extends", "variant.json"}, {"name", "two"}});
+  const Scene t = load_scene((dir / "two.json").string(), {parse_override("environment.air_temperature=210")});
+  EXPECT_EQ(t.resolved["environment"]["air_temperature"], 210);
+  EXPECT_EQ(t.resolved["materials"]["water"]["viscosity"], 0.002);
+  EXPECT_EQ(t.extends.size(), 2u);
+}
+
+TEST(Scene, ExtendsResolvesMeshPathsAgainstTheFileThatNamesThem) {
+  const auto dir = scene_folder("bakesim_test_extends_mesh");
+  std::filesystem::create_directories(dir / "base" / "meshes");
+  std::ofstream(dir / "base" / "meshes" / "tri.obj") << "v 0 0 0\nv 0.1 0 0\nv 0 0 0.1\nf 1 2 3\n";
+  json base = base_scene();
+  base["colliders"] = json::array({{{"name", "sheet"}, {"shape", {{"type", "mesh"}, {"file", "meshes/tri.obj"}}}}});
+  write_json(dir / "base" / "base.json", base);
+  write_json(dir / "variant.json", {{"extends", "base/base.json"}});
+  const Scene s = load_scene((dir / "variant.json").string());
+  const std::string file = s.resolved["colliders"][0]["shape"]["file"].get<std::string>();
+  EXPECT_EQ(std::filesystem::path(file), (dir / "base" / "meshes" / "tri.obj").lexically_normal());
+}
+
+TEST(Scene, ExtendsErrorsNameTheFileThatHoldsTheKey) {
+  const auto dir = scene_folder("bakesim_test_extends_errors");
+  json base = base_scene();
+  base["materials"]["water"]["density"] = -5;
+  write_json(dir / "base.json", base);
+  write_json(dir / "variant.json", {{"extends", "base.json"}, {"time", {{"end", 0.2}}}});
+  auto refused = [](const std::filesystem::path& file, const std::vector<std::string>& fragments) {
+    try {
+      load_scene(file.string());
+      ADD_FAILURE() << "accepted " << file;
+    } catch (const InputError& e) {
+      for (const auto& f : fragments)
+        EXPECT_NE(std::string(e.what()).find(f), std::string::npos) << "'" << f << "' not in: " << e.what();
+    }
+  };
+  refused(dir / "variant.json", {"base.json: materials.water.density", "which extends"});
+  write_json(dir / "good.json", base_scene());
+  write_json(dir / "bad-time.json", {{"extends", "good.json"}, {"time", {{"end", "soon"}}}});
+  refused(dir / "bad-time.json", {"bad-time.json: time.end"});
+  write_json(dir / "missing.json", {{"extends", "nowhere.json"}});
+  refused(dir / "missing.json", {"missing.json: extends", "no such scene file", "nowhere.json"});
+  write_json(dir / "a.json", {{"extends", "b.json"}});
+  write_json(dir / "b.json", {{"extends", "a.json"}});
+  refused(dir / "a.json", {"a.json", "extend each other in a circle"});
+  write_json(dir / "self.json", {{"extends", "self.json"}});
+  refused(dir / "self.json", {"circle"});
+  write_json(dir / "number.json", {{"extends", 3}});
+  refused(dir / "number.json", {"number.json: extends", "must be the path"});
+  std::ofstream(dir / "broken.json") << "{\"time\": }";
+  write_json(dir / "on-broken.json", {{"extends", "broken.json"}});
+  refused(dir / "on-broken.json", {"broken.json:1:", "JSON syntax error"});
+}
+
+// A tray preheated with the oven: "temperature": "oven" follows the air's schedule.
+TEST(Scene, ColliderTemperatureCanFollowTheOven) {
+  json d = base_scene();
+  d["environment"]["air_temperature"] = json::array({json::array({0, 150}), json::array({600, 200})});
+  d["colliders"] = json::array({{{"name", "tray"},
+                                 {"shape", {{"type", "plane"}, {"point", {0, 0.01, 0}}, {"normal", {0, 1, 0}}}},
+                                 {"temperature", "oven"}}});
+  const Scene s = parse_scene(d.dump(), "scene.json", ".");
+  ASSERT_TRUE(s.sph.colliders.at(0).temperature.has_value());
+  EXPECT_DOUBLE_EQ((*s.sph.colliders[0].temperature)(300.0), 175.0);
+  d["colliders"][0]["temperature"] = "hot";
+  expect_error(d, {"colliders[0].temperature"});
+}

@@ -198,7 +198,7 @@ TEST(MpmBaking, Co2GeneratedAtAHeldTemperatureMatchesTheRateLawAndRaisesTheBlock
 TEST(MpmBaking, SameBakeOnOneAndTwoThreads) {
   // The full model (heat, water, gas, temperature-dependent Cam-clay) on the
   // medium cookie: positions, temperatures and water identical bit for bit.
-  std::ifstream in(std::string(BAKESIM_SOURCE_DIR) + "/scenes/cookie-leavener-medium.json");
+  std::ifstream in(std::string(BAKESIM_SOURCE_DIR) + "/scenes/cookie.json");
   std::stringstream ss;
   ss << in.rdbuf();
   auto doc = json::parse(ss.str());
