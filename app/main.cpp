@@ -21,6 +21,7 @@
 #include <iostream>
 
 #include "bench.hpp"
+#include "sweep.hpp"
 #include "core/errors.hpp"
 #include "core/progress.hpp"
 #include "io/checkpoint.hpp"
@@ -396,6 +397,8 @@ int main(int argc, char** argv) {
       "  bakesim run --resume out/bread-roll               go on from the newest checkpoint (after Ctrl-C, a crash, a "
       "kill)\n"
       "  bakesim validate scenes/viscous-funnel.json       check a scene, print what it would simulate\n"
+      "  bakesim sweep scenes/cookie.json --set environment.air_temperature=150,180,210\n"
+      "                                                    three bakes, compared in out/cookie-sweep/sweep.md\n"
       "  bakesim bench --particles 50000,200000            SPH speed in particle-steps per second\n"
       "  bakesim bench --solver mpm --threads 1,2          MPM speed (100K and 500K points)\n"
       "  bakesim mesh out/bread-roll                       surface meshes of every frame (PLY, OBJ)\n"
@@ -494,6 +497,24 @@ int main(int argc, char** argv) {
   render_cmd->add_option("--threads,-j", render_threads, "Worker threads (default: all cores)")
       ->check(CLI::Range(1, 4096));
 
+  SweepArgs sweep_args;
+  auto* sweep = app.add_subcommand(
+      "sweep", "Run a scene over a grid of values (--set KEY=V1,V2,...) and compare the bakes in a table and plots");
+  sweep->add_option("scene", sweep_args.scene, "Scene file (JSON)")->required();
+  sweep
+      ->add_option("--set", sweep_args.sets,
+                   "KEY.PATH=V1,V2,... : the values of one axis of the grid (repeatable: every combination runs; "
+                   "one value applies to every run)")
+      ->required();
+  sweep->add_option("--out,-o", sweep_args.out, "Sweep directory (default: out/SCENE_NAME-sweep)");
+  sweep->add_option("--jobs", sweep_args.jobs, "Runs at a time (default: one per core, at most the runs)")
+      ->check(CLI::Range(1, 1024));
+  sweep->add_option("--threads,-j", sweep_args.threads, "Threads per run (default: the cores shared among the jobs)")
+      ->check(CLI::Range(1, 4096));
+  sweep->add_option("--end-time", sweep_args.end_time, "Override the scene's time.end (s) for every run")
+      ->check(CLI::PositiveNumber);
+  sweep->add_flag("--quiet,-q", sweep_args.quiet, "No progress lines or table");
+
   std::string plot_dir;
   auto* plot =
       app.add_subcommand("plot", "Plot a run's stats.csv into RUN_DIR/plots/ (temperatures, volume, height, moisture)");
@@ -519,6 +540,11 @@ int main(int argc, char** argv) {
       if (run_args.scene.empty() && run_args.resume.empty())
         throw InputError("run", "give a scene file, or --resume RUN_DIR");
       return command_run(run_args);
+    }
+    if (*sweep) {
+      std::error_code ec;
+      const fs::path self = fs::read_symlink("/proc/self/exe", ec);
+      return command_sweep(sweep_args, ec ? std::string(argv[0]) : self.string());
     }
     if (*validate) return command_validate(validate_path, validate_sets, validate_resolved);
     if (*mesh) return command_mesh(mesh_args);

@@ -190,8 +190,8 @@ RunDirectoryLock::~RunDirectoryLock() {
   if (fd_ >= 0) ::close(fd_);  // closing releases the flock
 }
 
-RunDirectoryLock RunDirectoryLock::take(const fs::path& dir) {
-  const fs::path file = dir / kRunLockFile;
+RunDirectoryLock RunDirectoryLock::take(const fs::path& dir, const char* file_name) {
+  const fs::path file = dir / file_name;
   const int fd = ::open(file.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);
   if (fd < 0) throw IoError(file.string() + ": cannot open the lock file: " + std::strerror(errno));
   if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
@@ -204,7 +204,7 @@ RunDirectoryLock RunDirectoryLock::take(const fs::path& dir) {
     if (err != EWOULDBLOCK) throw IoError(file.string() + ": cannot lock: " + std::strerror(err));
     throw InputError(dir.string(), fmt::format("is in use by another bakesim process{} (it holds {}); wait for it "
                                                "to finish or choose another output directory",
-                                               pid.empty() ? "" : " (PID " + pid + ")", kRunLockFile));
+                                               pid.empty() ? "" : " (PID " + pid + ")", file_name));
   }
   const std::string pid = std::to_string(::getpid()) + "\n";
   if (::ftruncate(fd, 0) != 0 || ::pwrite(fd, pid.data(), pid.size(), 0) != ssize_t(pid.size())) {

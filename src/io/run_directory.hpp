@@ -33,7 +33,8 @@ class RunDirectoryLock {
   // Takes DIR/bakesim-run.lock; InputError naming the PID of the run that
   // holds it. The lock ends with this object or with the process (a killed
   // run leaves no stale lock: the kernel releases it).
-  static RunDirectoryLock take(const std::filesystem::path& dir);
+  // `file_name`: another lock file (bakesim sweep's directory has its own).
+  static RunDirectoryLock take(const std::filesystem::path& dir, const char* file_name = kRunLockFile);
 
  private:
   explicit RunDirectoryLock(int fd) : fd_(fd) {}

@@ -1,0 +1,64 @@
+#include "render/run_results.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+
+#include "core/errors.hpp"
+#include "io/files.hpp"
+
+namespace bakesim::render {
+
+namespace fs = std::filesystem;
+
+double first_crossing(const std::vector<double>& t, const std::vector<double>& v, double level) {
+  for (std::size_t i = 0; i < v.size() && i < t.size(); ++i) {
+    if (!(v[i] >= level)) continue;
+    if (i == 0 || !std::isfinite(v[i - 1])) return t[i];
+    const double f = (level - v[i - 1]) / (v[i] - v[i - 1]);
+    return t[i - 1] + f * (t[i] - t[i - 1]);
+  }
+  return NAN;
+}
+
+RunResults read_run_results(const fs::path& run_dir) {
+  RunResults r;
+  r.dir = run_dir;
+  r.stats = read_csv(run_dir / "stats.csv");
+  const Table& t = r.stats;
+  const auto* time = t.column("time");
+  if (!time || time->empty()) throw InputError((run_dir / "stats.csv").string(), "has no rows");
+  r.frames = static_cast<int>(time->size());
+  r.time_end = time->back();
+  std::vector<double> bake = *time;
+  if (const auto* b = t.column("bake_time")) bake = *b;
+  r.bake_minutes = bake.back() / 60.0;
+  if (const auto* air = t.column("air_temperature")) r.air_end = air->back();
+  if (const auto* heat = t.column("heat_in")) r.heat_in_kilojoules = heat->back() / 1000.0;
+  if (const auto* wall = t.column("wall_time")) r.wall_seconds = wall->back();
+  try {
+    r.scene_name = nlohmann::json::parse(read_file(run_dir / "scene.json")).value("name", "");
+  } catch (const std::exception&) {
+    r.scene_name = run_dir.filename().string();
+  }
+  for (const std::string& n : t.names) {
+    if (n.rfind("volume:", 0) != 0) continue;
+    BodyResults b;
+    b.name = n.substr(7);
+    const auto& volume = *t.column(n);
+    if (volume.front() > 0) b.volume_ratio = volume.back() / volume.front();
+    if (const auto* h = t.column("height:" + b.name)) b.height_start = h->front(), b.height_end = h->back();
+    if (const auto* core = t.column("core_temperature:" + b.name)) {
+      b.heated = true;
+      b.core_start = core->front();
+      b.core_end = core->back();
+      b.minutes_to_done = first_crossing(bake, *core, kDoneCoreDegC) / 60.0;
+    }
+    if (const auto* crust = t.column("crust_temperature:" + b.name)) b.crust_end = crust->back();
+    if (const auto* loss = t.column("moisture_loss_percent:" + b.name)) b.moisture_loss_percent = loss->back();
+    r.bodies.push_back(std::move(b));
+  }
+  return r;
+}
+
+}  // namespace bakesim::render

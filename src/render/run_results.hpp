@@ -1,0 +1,46 @@
+#pragma once
+// What a bake did, read back from a run directory's stats.csv: the numbers
+// the run's summary, `bakesim sweep`'s table and `bakesim report` show.
+#include <cmath>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "render/plot.hpp"
+
+namespace bakesim::render {
+
+// The core temperature at which a bake counts as done (bread crumb sets and
+// is safe at 93-96 °C; the report draws it as the doneness line).
+inline constexpr double kDoneCoreDegC = 95.0;
+
+struct BodyResults {
+  std::string name;
+  bool heated = false;                                       // the run has core and crust columns for it
+  double core_start = NAN, core_end = NAN, crust_end = NAN;  // °C
+  double minutes_to_done = NAN;                 // bake minutes for the core to reach kDoneCoreDegC; NaN: never
+  double volume_ratio = NAN;                    // last frame / first frame
+  double height_start = NAN, height_end = NAN;  // m
+  double moisture_loss_percent = NAN;           // NaN: the run carries no water
+};
+
+struct RunResults {
+  std::filesystem::path dir;
+  std::string scene_name;
+  int frames = 0;                   // rows of stats.csv
+  double time_end = NAN;            // simulated s
+  double bake_minutes = NAN;        // bake clock at the last frame
+  double air_end = NAN;             // oven air at the last frame, °C
+  double heat_in_kilojoules = NAN;  // heat in through the surfaces (stats.csv heat_in), kJ
+  double wall_seconds = NAN;
+  std::vector<BodyResults> bodies;
+  Table stats;  // stats.csv as read
+};
+
+// InputError when there is no readable stats.csv.
+RunResults read_run_results(const std::filesystem::path& run_dir);
+
+// The first bake time (s) at which `values` reaches `level`, interpolated between rows; NaN when it never does.
+double first_crossing(const std::vector<double>& bake_time, const std::vector<double>& values, double level);
+
+}  // namespace bakesim::render

@@ -1,0 +1,67 @@
+#!/usr/bin/env bash
+# bakesim sweep: a grid of runs from one scene, their table and plots; a bad
+# value refused before anything runs; a second call keeps finished runs; a
+# stopped sweep resumes its runs from their checkpoints.
+source "$(dirname "$0")/common.sh"
+
+# A water ball heated through on a fast bake clock: its core passes 95 degC.
+sed 's/"solver"/"environment": {"bake_time_scale": 300000}, "solver"/' "$ROOT/tests/data/good_small.json" > "$OUT/ball.json"
+"$BAKESIM" sweep "$OUT/ball.json" --set environment.air_temperature=150,250 --set 'bodies[0].temperature=10,30' \
+  --set time.fps=200 --out "$OUT/sw" >"$OUT/table.md" 2>"$OUT/sweep.txt"
+rc=$?
+check '[ $rc -eq 0 ]' "a 2 x 2 sweep exits 0"
+check '[ "$(wc -l < "$OUT/sw/sweep.csv")" -eq 5 ] && [ "$(ls "$OUT/sw/runs" | wc -l)" -eq 4 ]' "sweep.csv has a row per run, runs/ a directory per run"
+check 'head -1 "$OUT/sw/sweep.csv" | grep -q "^run,air_temperature,temperature,fps,status,bake_minutes,core_degC:block,crust_degC:block,minutes_to_95degC:block,volume_ratio:block,height_cm:block,heat_in_kJ,wall_seconds,directory$"' "sweep.csv names its columns with units"
+check 'grep -q "^| air_temperature=250,temperature=30 | 250 | 30 | done |" "$OUT/table.md" && cmp -s "$OUT/table.md" "$OUT/sw/sweep.md"' "the Markdown table is printed and written"
+check 'grep -q "\[4/4\]" "$OUT/sweep.txt" && grep -q "2 at a time\|1 at a time" "$OUT/sweep.txt"' "progress names each finished run"
+check '[ "$(head -c 8 "$OUT/sw/plots/core_temperature.png" | od -An -c | tr -d " ")" = "211PNG\r\n032\n" ]' "the core temperature plot is a PNG"
+# Every number in the table comes from the run's own stats.csv (last row; first crossing of 95 degC).
+for run in "$OUT"/sw/runs/*; do
+  name="$(basename "$run")"
+  expected="$(awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next }
+    { t = $col["bake_time"]; c = $col["core_temperature:block"];
+      if (!done && c >= 95) { done = 1; at = (NR == 2) ? t : pt + (95 - pc) / (c - pc) * (t - pt) }
+      pt = t; pc = c; last = c }
+    END { printf "%.2f %.2f\n", last, done ? at / 60 : -1 }' "$run/stats.csv")"
+  got="$(/usr/bin/python3 -c '
+import csv, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+r = [x for x in rows if x["directory"] == "runs/" + sys.argv[2]][0]
+print("%.2f %.2f" % (float(r["core_degC:block"]), float(r["minutes_to_95degC:block"] or -1)))' "$OUT/sw/sweep.csv" "$name")"
+  check '[ "$got" = "$expected" ]' "$name: core and time to 95 degC in sweep.csv ($got) as in its stats.csv ($expected)"
+  check 'grep -q "\"temperature\": [13]0" "$run/scene.json"' "$name: its scene.json records its values"
+done
+check 'grep -q "^| air_temperature=150,temperature=10 | 150 | 10 | done | 100.0 | [0-9.]* | [0-9.]* | not reached |" "$OUT/table.md" && grep -q "^| air_temperature=250,temperature=30 | 250 | 30 | done | 100.0 | [0-9.]* | [0-9.]* | [0-9][0-9.]* |" "$OUT/table.md"' "the table says when the core reached 95 degC, or that it did not"
+# A second call with the same grid runs nothing again.
+before="$(stat -c %Y "$OUT"/sw/runs/*/stats.csv | sort | tr '\n' ' ')"
+"$BAKESIM" sweep "$OUT/ball.json" --set environment.air_temperature=150,250 --set 'bodies[0].temperature=10,30' \
+  --set time.fps=200 --out "$OUT/sw" >/dev/null 2>"$OUT/again.txt"
+check '[ $? -eq 0 ] && grep -q "(0 to run" "$OUT/again.txt" && [ "$(stat -c %Y "$OUT"/sw/runs/*/stats.csv | sort | tr "\n" " ")" = "$before" ]' "a second call keeps the finished runs"
+# A bad value anywhere in the grid is refused before anything runs.
+"$BAKESIM" sweep "$OUT/ball.json" --set environment.air_temperature=150,hot --out "$OUT/bad" 2>"$OUT/bad.txt"
+check '[ $? -eq 2 ] && grep -q "environment.air_temperature" "$OUT/bad.txt" && grep -q "in the sweep.s run air_temperature=hot" "$OUT/bad.txt" && [ ! -e "$OUT/bad" ]' "a bad value is refused with its run, nothing written"
+"$BAKESIM" sweep "$OUT/ball.json" --set environment.air_temperature=150 --out "$OUT/one" 2>"$OUT/one.txt"
+check '[ $? -eq 2 ] && grep -q "two or more values" "$OUT/one.txt"' "a sweep of one run is refused"
+mkdir -p "$OUT/foreign" && echo mine > "$OUT/foreign/notes.txt"
+"$BAKESIM" sweep "$OUT/ball.json" --set environment.air_temperature=150,180 --out "$OUT/foreign" 2>"$OUT/foreign.txt"
+check '[ $? -eq 2 ] && grep -q "holds no bakesim sweep" "$OUT/foreign.txt" && [ "$(ls "$OUT/foreign")" = notes.txt ]' "a foreign directory is refused and left alone"
+# Stopped: each run checkpoints; the same command again resumes them to the end.
+"$BAKESIM" sweep "$ROOT/tests/data/good_small.json" --set environment.air_temperature=100,200 --end-time 2 \
+  --jobs 2 --threads 1 --out "$OUT/stop" >/dev/null 2>"$OUT/stop.txt" &
+pid=$!
+for _ in $(seq 1 300); do
+  n=0
+  for f in "$OUT"/stop/runs/*/stats.csv; do [ -f "$f" ] && [ "$(wc -l < "$f")" -ge 4 ] && n=$((n + 1)); done
+  [ $n -ge 2 ] && break
+  sleep 0.1
+done
+kill -TERM $pid
+wait $pid
+rc=$?
+check '[ $rc -eq 143 ] && grep -q "run the same command again" "$OUT/stop.txt"' "SIGTERM stops the sweep (exit 143)"
+check '[ "$(ls "$OUT"/stop/runs/*/checkpoints/*.ckpt | wc -l)" -ge 2 ] && [ "$(grep -c "stopped (signal 15)" "$OUT/stop/bakesim-sweep.json")" -eq 2 ]' "each stopped run wrote a checkpoint and is marked stopped"
+"$BAKESIM" sweep "$ROOT/tests/data/good_small.json" --set environment.air_temperature=100,200 --end-time 2 \
+  --jobs 2 --threads 1 --out "$OUT/stop" >/dev/null 2>"$OUT/resume.txt"
+check '[ $? -eq 0 ] && grep -q "resumed from" "$OUT"/stop/runs/1-*/log.txt && grep -q "resumed from" "$OUT"/stop/runs/2-*/log.txt' "the same command again resumes both runs"
+check '[ "$(wc -l < "$OUT"/stop/runs/1-air_temperature=100/stats.csv)" -eq 202 ]' "a resumed run ends with every frame once (201 rows)"
+exit $fail
