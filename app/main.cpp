@@ -51,6 +51,8 @@ struct RunArgs {
   double checkpoint_minutes = -1;
   bool quiet = false;
   bool force = false;
+  bool preview = false;           // coarser and fewer frames (preview_overrides), with pictures
+  bool pictures = false;          // render pictures while running
   std::vector<std::string> sets;  // --set KEY.PATH=VALUE
 };
 
@@ -92,8 +94,13 @@ std::string printable(const std::string& s) {
   return out;
 }
 
-int command_validate(const std::string& path, const std::vector<std::string>& sets, bool print_resolved) {
-  Scene scene = load_scene(path, parse_overrides(sets));
+int command_validate(const std::string& path, const std::vector<std::string>& sets, bool print_resolved, bool preview) {
+  std::vector<SceneOverride> overrides = parse_overrides(sets);
+  Scene scene = load_scene(path, overrides);
+  if (preview) {
+    for (SceneOverride& o : preview_overrides(scene)) overrides.push_back(std::move(o));
+    scene = load_scene(path, overrides);
+  }
   for (const auto& w : scene.warnings) fmt::print(stderr, "bakesim: warning: {}\n", printable(w));
   auto solver = make_solver(scene);
   if (print_resolved) {
@@ -145,7 +152,12 @@ int command_run(const RunArgs& a) {
       throw InputError(checkpoint_file.string(),
                        "checkpoint of a different scene than " + (dir / "scene.json").string());
   } else {
-    scene = load_scene(a.scene, parse_overrides(a.sets));
+    std::vector<SceneOverride> overrides = parse_overrides(a.sets);
+    scene = load_scene(a.scene, overrides);
+    if (a.preview) {
+      for (SceneOverride& o : preview_overrides(scene)) overrides.push_back(std::move(o));
+      scene = load_scene(a.scene, overrides);
+    }
     scene_dir = fs::absolute(fs::path(a.scene)).parent_path().string();
   }
   if (a.end_time > 0) {
@@ -170,6 +182,11 @@ int command_run(const RunArgs& a) {
          hw);
   for (const auto& base : scene.extends) L.info("extends {}", base);
   for (const auto& s : a.sets) L.info("--set {}", s);
+  if (a.preview)
+    L.info("preview: {} {:g} m, {:g} fps, into {}", scene.solver_type == "mpm" ? "cell size" : "spacing",
+           scene.solver_type == "mpm" ? scene.resolved["solver"]["mpm"]["cell_size"].get<double>()
+                                      : scene.resolved["solver"]["sph"]["spacing"].get<double>(),
+           scene.fps, out.string());
   for (const auto& w : scene.warnings) L.warn("{}", w);  // echoed to stderr unless --quiet
   auto solver = make_solver(scene);
   if (a.resume.empty()) {
@@ -227,7 +244,36 @@ int command_run(const RunArgs& a) {
   std::optional<Checkpoint> last_good;
   const int total_frames = std::max(1, static_cast<int>(std::ceil(scene.end_time * scene.fps - 1e-9)));
   ProgressBar progress(stderr, !a.quiet);
+  // Pictures while the run goes: the first frame, the last, and between them
+  // whenever the wall time since the last picture is ten times what that
+  // picture took (at most a tenth of the run spent drawing), at least 20 s.
+  const bool pictures = (a.pictures || a.preview) &&
+                        std::find(scene.output.particle_formats.begin(), scene.output.particle_formats.end(), "ply") !=
+                            scene.output.particle_formats.end();
+  Stopwatch since_picture;
+  double picture_seconds = 0;
+  std::vector<fs::path> drawn;
+  auto draw = [&](int frame) {
+    try {
+      Stopwatch clock;
+      render::RenderRunOptions opt;
+      opt.frames = {frame};
+      const auto r = render::render_run(out, opt);
+      picture_seconds = clock.seconds();
+      since_picture.restart();
+      for (const auto& f : r.images) {
+        L.info("picture {} ({:.1f} s)", f.string(), picture_seconds);
+        drawn.push_back(f);
+      }
+    } catch (const std::exception& e) {
+      L.warn("no picture of frame {}: {}", frame, e.what());
+    }
+  };
   cfg.after_frame = [&](const FrameInfo& info, const Solver& s) {
+    if (pictures && fs::exists(out / "frames" / (frame_stem(info.frame) + ".ply")) &&
+        (drawn.empty() || info.frame == total_frames ||
+         since_picture.seconds() >= std::max(20.0, 10 * picture_seconds)))
+      draw(info.frame);
     if (baking) progress.set_note(output.progress_note());
     const bool stop = g_stop_signal.load() != 0;
     const bool due = (every_frames > 0 && info.frame > 0 && info.frame % every_frames == 0) ||
@@ -302,6 +348,9 @@ int command_run(const RunArgs& a) {
     if (std::find(formats.begin(), formats.end(), "vtu") != formats.end()) written.push_back("particles.pvd");
     written.push_back("frames/ (" + fmt::format("{}", fmt::join(formats, ", ")) + ")");
     if (scene.resolved["output"]["mesh"]["enabled"].get<bool>()) written.push_back("meshes/");
+    if (!drawn.empty())
+      written.push_back(
+          fmt::format("render/ ({} pictures, the last {})", drawn.size(), drawn.back().filename().string()));
     for (const char* f : {"stats.csv", "scene.json", "log.txt"}) written.push_back(f);
     fmt::print(stderr, "output: {}/ ({})\n", printable(out.string()), fmt::join(written, ", "));
     if (!bake.empty())
@@ -428,6 +477,13 @@ int main(int argc, char** argv) {
                   "Change a scene value: KEY.PATH=VALUE, e.g. environment.air_temperature=200 or "
                   "bodies[0].temperature=5 (repeatable; checked like the file; recorded in scene.json)")
       ->excludes(run->get_option("--resume"));
+  run->add_flag("--preview", run_args.preview,
+                "A quick look: twice the particle spacing (MPM: cell size), so 8x fewer particles, at most 10 frames, "
+                "pictures on the way, into out/NAME-preview; the physics and the bake stay as they are")
+      ->excludes(run->get_option("--resume"));
+  run->add_flag("--pictures", run_args.pictures,
+                "Render pictures of frames as they are written into RUN_DIR/render/ (the first, the last, and between "
+                "them as often as costs a tenth of the run)");
   run->add_flag("--force", run_args.force,
                 "Write into a directory that is not empty or holds another scene's run (bakesim still never replaces "
                 "or deletes files it did not write)");
@@ -437,7 +493,8 @@ int main(int argc, char** argv) {
   auto* validate = app.add_subcommand("validate", "Check a scene and print what it would simulate");
   validate->add_option("scene", validate_path, "Scene file (JSON)")->required();
   validate->add_option("--set", validate_sets, "Change a scene value: KEY.PATH=VALUE (as for run)");
-  bool validate_resolved = false;
+  bool validate_resolved = false, validate_preview = false;
+  validate->add_flag("--preview", validate_preview, "Check the scene as run --preview would run it");
   validate->add_flag("--resolved", validate_resolved,
                      "Print the resolved scene as JSON (bases merged, --set applied, every default filled in): what a "
                      "run writes as scene.json");
@@ -546,7 +603,7 @@ int main(int argc, char** argv) {
       const fs::path self = fs::read_symlink("/proc/self/exe", ec);
       return command_sweep(sweep_args, ec ? std::string(argv[0]) : self.string());
     }
-    if (*validate) return command_validate(validate_path, validate_sets, validate_resolved);
+    if (*validate) return command_validate(validate_path, validate_sets, validate_resolved, validate_preview);
     if (*mesh) return command_mesh(mesh_args);
     if (*render_cmd) {
       const int threads = render_threads > 0 ? render_threads : static_cast<int>(tbb::info::default_concurrency());

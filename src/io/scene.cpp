@@ -448,6 +448,31 @@ Scene load_scene(const std::string& path, const std::vector<SceneOverride>& over
   return parse_scene(text, path, dir.empty() ? "." : dir, overrides);
 }
 
+std::vector<SceneOverride> preview_overrides(const Scene& scene) {
+  auto set = [](const std::string& path, json value) {
+    SceneOverride o = parse_override(path + "=0");
+    o.value = std::move(value);
+    return o;
+  };
+  std::vector<SceneOverride> out;
+  const json& solver = scene.resolved["solver"];
+  if (scene.solver_type == "mpm") {
+    // Container and cup walls must stay two cells thick (scene_mpm.cpp): they may limit the coarsening.
+    const double cell = solver["mpm"]["cell_size"].get<double>();
+    double factor = kPreviewCoarsening;
+    for (const json& c : scene.resolved["colliders"])
+      if (c["shape"].contains("wall_thickness"))
+        factor = std::min(factor, c["shape"]["wall_thickness"].get<double>() / (2 * cell));
+    if (factor > 1) out.push_back(set("solver.mpm.cell_size", cell * factor));
+  } else {
+    out.push_back(set("solver.sph.spacing", solver["sph"]["spacing"].get<double>() * kPreviewCoarsening));
+  }
+  const double fps = std::min(scene.fps, kPreviewFrames / scene.end_time);
+  if (fps < scene.fps) out.push_back(set("time.fps", fps));
+  out.push_back(set("name", scene.name + "-preview"));
+  return out;
+}
+
 std::unique_ptr<Solver> make_solver(const Scene& scene) {
   std::unique_ptr<Solver> solver;
   if (scene.solver_type == "mpm")

@@ -75,6 +75,16 @@ Scene load_scene(const std::string& path, const std::vector<SceneOverride>& over
 Scene parse_scene(const std::string& text, const std::string& file, const std::string& base_dir,
                   const std::vector<SceneOverride>& overrides = {});
 
+// `--preview`: the changes that make a quick look at a scene (docs/scenes.md,
+// "Previews"): the particle spacing (SPH) or cell size (MPM) times
+// kPreviewCoarsening, so 8x fewer particles taking about 2x longer steps; at
+// most kPreviewFrames frames; the name NAME-preview (so out/NAME-preview).
+// MPM containers and cups keep their walls two cells thick, which may limit the coarsening.
+// The physics, the bake clock and the bake's length stay as they are.
+inline constexpr double kPreviewCoarsening = 2.0;
+inline constexpr int kPreviewFrames = 10;
+std::vector<SceneOverride> preview_overrides(const Scene& scene);
+
 std::unique_ptr<Solver> make_solver(const Scene& scene);
 
 // Human-readable summary of what the scene will simulate (for `validate`):

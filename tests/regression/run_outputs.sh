@@ -74,6 +74,15 @@ check 'grep -q "\"air_temperature\": 60" "$OUT/warm-resolved.json" && ! grep -q 
 check '[ $? -eq 0 ] && grep -q "extends .*good_small.json" "$OUT/warm/log.txt" && ! grep -q extends "$OUT/warm/scene.json"' "a variant runs; log.txt names its base, scene.json has it merged in"
 "$BAKESIM" run "$OUT/warm/scene.json" --out "$OUT/warm-again" --quiet
 check '[ $? -eq 0 ] && cmp -s "$OUT/warm/frames/00001.ply" "$OUT/warm-again/frames/00001.ply"' "a variant's resolved scene.json re-runs to the same frames"
+# --preview: twice the spacing, at most 10 frames, pictures, into out/NAME-preview.
+sed 's/"time": {"end": 0.02, "fps": 100}/"name": "small", "time": {"end": 0.04, "fps": 500}/' \
+  "$ROOT/tests/data/good_small.json" > "$OUT/small.json"
+(cd "$OUT" && "$BAKESIM" run small.json --preview 2>"$OUT/preview.txt")
+check '[ $? -eq 0 ] && [ -f "$OUT/out/small-preview/scene.json" ]' "--preview runs into out/NAME-preview"
+check 'grep -q "\"spacing\": 0.02," "$OUT/out/small-preview/scene.json" && grep -q "\"fps\": 250" "$OUT/out/small-preview/scene.json"' "the preview doubles the spacing and keeps to 10 frames (scene.json)"
+check '[ "$(ls "$OUT"/out/small-preview/frames/*.ply | wc -l)" -eq 11 ]' "the preview writes frames 0..10"
+check '[ -s "$OUT/out/small-preview/render/mesh-browning-00000.png" ] && [ -s "$OUT/out/small-preview/render/mesh-browning-00010.png" ]' "the preview draws the first and the last frame"
+check 'grep -q "render/ (2 pictures, the last mesh-browning-00010.png)" "$OUT/preview.txt" && grep -q "preview: spacing 0.02 m, 250 fps" "$OUT/out/small-preview/log.txt"' "the summary and the log say what the preview did"
 # --end-time overrides the scene and is recorded in the resolved scene.
 "$BAKESIM" run "$ROOT/tests/data/good_small.json" --out "$OUT/short" --end-time 0.01 --quiet
 check 'grep -q "\"end\": 0.01" "$OUT/short/scene.json"' "--end-time recorded in scene.json"
