@@ -571,6 +571,7 @@ int main(int argc, char** argv) {
   sweep->add_option("--end-time", sweep_args.end_time, "Override the scene's time.end (s) for every run")
       ->check(CLI::PositiveNumber);
   sweep->add_flag("--quiet,-q", sweep_args.quiet, "No progress lines or table");
+  sweep->add_flag("--preview", sweep_args.preview, "Every run as run --preview (a quick look at the grid)");
 
   std::string plot_dir;
   auto* plot =

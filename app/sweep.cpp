@@ -114,6 +114,10 @@ int command_sweep(const SweepArgs& a, const std::string& self) {
     for (const auto& s : p.sets) overrides.push_back(parse_override(s));
     try {
       scenes.push_back(load_scene(a.scene, overrides));
+      if (a.preview) {
+        for (SceneOverride& o : preview_overrides(scenes.back())) overrides.push_back(std::move(o));
+        scenes.back() = load_scene(a.scene, overrides);
+      }
     } catch (const InputError& e) {
       throw InputError(e.where(), e.detail() + " (in the sweep's run " + p.label + ")");
     }
@@ -201,6 +205,7 @@ int command_sweep(const SweepArgs& a, const std::string& self) {
         for (const auto& s : points[i].sets) argv.insert(argv.end(), {"--set", s});
         argv.insert(argv.end(), {"--out", run_dir.string()});
         if (a.end_time > 0) argv.insert(argv.end(), {"--end-time", fmt::format("{}", a.end_time)});
+        if (a.preview) argv.push_back("--preview");
       }
       argv.insert(argv.end(), {"--threads", std::to_string(threads), "--quiet"});
       marker["runs"][points[i].directory] = {{"label", points[i].label},

@@ -17,6 +17,7 @@ struct SweepArgs {
   int threads = 0;                // threads per run (default: the cores shared among the jobs)
   double end_time = -1;
   bool quiet = false;
+  bool preview = false;  // every run as run --preview
 };
 
 // Returns the exit code: 0 when every run finished, 1 when one failed, 128+N when stopped by signal N.
