@@ -32,6 +32,7 @@
 #include "io/scene.hpp"
 #include "io/schema.hpp"
 #include "render/plot.hpp"
+#include "render/report.hpp"
 #include "render/run_pictures.hpp"
 
 namespace fs = std::filesystem;
@@ -454,6 +455,7 @@ int main(int argc, char** argv) {
       "  bakesim render out/bread-roll --all --movie       pictures of every frame and an MP4\n"
       "  bakesim render out/bread-roll --mode particles --color temperature\n"
       "  bakesim plot out/bread-roll                       probe temperatures, volume, height as PNG\n"
+      "  bakesim report out/bread-roll                     out/bread-roll/report.html: numbers, pictures, plots\n"
       "  bakesim schema --markdown > docs/scene-reference.md\n"
       "Exit codes: 0 ok, 1 runtime or I/O failure, 2 bad input, 3 simulation failure, 129/130/143 stopped by "
       "SIGHUP/Ctrl-C/SIGTERM (checkpoint written).");
@@ -573,6 +575,17 @@ int main(int argc, char** argv) {
   sweep->add_flag("--quiet,-q", sweep_args.quiet, "No progress lines or table");
   sweep->add_flag("--preview", sweep_args.preview, "Every run as run --preview (a quick look at the grid)");
 
+  std::string report_dir;
+  render::ReportOptions report_opt;
+  std::string report_out;
+  auto* report = app.add_subcommand(
+      "report", "Write RUN_DIR/report.html: the bake's numbers, pictures and plots on one self-contained page");
+  report->add_option("run_dir", report_dir, "Run directory (made by bakesim run)")->required();
+  report->add_option("--compare", report_opt.compare,
+                     "Measured data to overlay: a CSV with t_s or t_min and columns ending in _C, _m or moisture_db; "
+                     "FILE=COLUMN also compares it with that stats.csv column (repeatable)");
+  report->add_option("--out,-o", report_out, "The page to write (default RUN_DIR/report.html)");
+
   std::string plot_dir;
   auto* plot =
       app.add_subcommand("plot", "Plot a run's stats.csv into RUN_DIR/plots/ (temperatures, volume, height, moisture)");
@@ -617,6 +630,22 @@ int main(int argc, char** argv) {
                  r.images.size() == 1 ? r.images[0].string() : (fs::path(mesh_args.run_dir) / "render/").string(),
                  r.strip ? ", strip " + r.strip->string() : "", r.movie ? ", movie " + r.movie->string() : "");
       if (!r.note.empty()) fmt::print(stderr, "bakesim: {}\n", r.note);
+      return kExitOk;
+    }
+    if (*report) {
+      report_opt.output = report_out;
+      report_opt.generator = "bakesim " BAKESIM_VERSION;
+      // The pictures it may draw go into render/: not while a run writes there.
+      RunDirectoryLock lock;
+      try {
+        lock = claim_existing_run(report_dir);
+      } catch (const InputError&) {
+        if (!fs::is_regular_file(fs::path(report_dir) / "stats.csv")) throw;
+        report_opt.draw_pictures = false;  // a run in progress: report what it has written so far
+      }
+      const auto r = render::write_report(report_dir, report_opt);
+      for (const auto& n : r.notes) fmt::print(stderr, "bakesim: note: {}\n", printable(n));
+      fmt::print("{}\n", r.file.string());
       return kExitOk;
     }
     if (*plot) {

@@ -18,6 +18,7 @@ PACKAGES=(
   libembree-dev          # ray casting for pictures
   libstb-dev             # PNG writing, TrueType text for plots and colour bars
   fonts-dejavu-core      # the font plots and colour bars are labelled with
+  chromium               # headless browser: the test of bakesim report loads the page in it (tests only)
 )
 
 missing=()

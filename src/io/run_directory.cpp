@@ -29,8 +29,8 @@ const std::vector<std::string> kRunSubdirectories{"frames", "checkpoints", "mesh
 // The top-level entries a run writes: its files and its subdirectories.
 const std::vector<std::string>& run_entries() {
   static const std::vector<std::string> names = [] {
-    std::vector<std::string> n{"scene.json", "stats.csv",     "stats.units.csv",
-                               "log.txt",    "particles.pvd", kRunMarkerFile};
+    std::vector<std::string> n{"scene.json",    "stats.csv",   "stats.units.csv", "log.txt",
+                               "particles.pvd", "report.html", kRunMarkerFile};
     n.insert(n.end(), kRunSubdirectories.begin(), kRunSubdirectories.end());
     return n;
   }();

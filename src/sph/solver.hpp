@@ -51,6 +51,8 @@ class SphSolver final : public Solver {
   Real time() const override { return time_; }
   const ParticleSet& particles() const override { return particles_; }
   std::vector<std::pair<std::string, double>> checkpoint_state() const override;
+  // stats.csv's heat_in: the heat in through the surface since the start, J (as MPM's).
+  std::vector<std::pair<std::string, Real>> frame_quantities() const override { return {{"heat_in", exchanged_heat_}}; }
   void restore_state(const std::vector<std::pair<std::string, double>>& state) override;
   std::string restored_state_problem() const override;
   ParticleSet& particles_for_restore() override { return particles_; }

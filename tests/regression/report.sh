@@ -1,0 +1,49 @@
+#!/usr/bin/env bash
+# bakesim report: a self-contained HTML page, checked as Chromium renders it
+# (headless, Debian's chromium): its plots are laid out, its pictures decode,
+# its numbers are the run's, and measured data are overlaid and compared.
+source "$(dirname "$0")/common.sh"
+CHROMIUM="$(command -v chromium || command -v chromium-browser || true)"
+if [ -z "$CHROMIUM" ]; then
+  echo "SKIP: no chromium (scripts/install-deps.sh installs it)"
+  exit 77
+fi
+
+# A short MPM bake with water and heat: the cookie's preview, 3.6 minutes of oven.
+"$BAKESIM" run "$ROOT/scenes/cookie.json" --preview --end-time 0.6 --out "$OUT/run" --quiet
+check '[ $? -eq 0 ]' "the bake runs"
+# Measured data 2 degC above the simulated core at every frame (so the RMS difference is 2.00 degC), with a spread.
+awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; print "# made by report.sh"; print "t_min,T_C,T_std_C,moisture_db"; next }
+  { printf "%.9g,%.9g,0.5,%.9g\n", $col["bake_time"] / 60, $col["core_temperature:cookie"] + 2, 0.6 * (1 - $col["moisture_loss_percent:cookie"] / 100) }' \
+  "$OUT/run/stats.csv" > "$OUT/measured.csv"
+rows=$(($(wc -l < "$OUT/measured.csv") - 2))
+"$BAKESIM" report "$OUT/run" --compare "$OUT/measured.csv=core_temperature:cookie" >"$OUT/report.txt" 2>&1
+check '[ $? -eq 0 ] && grep -qx "$OUT/run/report.html" "$OUT/report.txt"' "report writes RUN_DIR/report.html"
+check '[ -z "$(grep -o "src=\"[^d][^\"]*\"\|href=\|url(" "$OUT/run/report.html")" ]' "the page needs no other file (pictures inline, no links)"
+sed "s|REPORT|file://$OUT/run/report.html|" "$ROOT/tests/regression/report_check.html" > "$OUT/check.html"
+timeout 120 "$CHROMIUM" --headless --no-sandbox --disable-gpu --allow-file-access-from-files --virtual-time-budget=10000 \
+  --dump-dom "file://$OUT/check.html" 2>/dev/null | sed -n '/<pre/,/<\/pre>/p' | sed 's/<[^>]*>//g' > "$OUT/seen.txt"
+cat "$OUT/seen.txt"
+seen() { grep -qx "$1" "$OUT/seen.txt"; }
+check 'seen "title=bakesim report: cookie-preview"' "Chromium loads the page"
+check 'seen "plots=4" && seen "plots_drawn=4"' "four SVG plots, laid out (temperature, volume, rise, moisture)"
+check 'seen "images=2" && seen "images_decoded=2"' "the pictures of the first and last frame decode"
+check 'seen "measured_markers=$rows"' "every measured point is drawn on the temperature plot ($rows)"
+check 'seen "done_line=true"' "the temperature plot has the doneness line"
+check 'seen "rms=2.00 °C"' "the RMS difference from the measured data is 2.00 degC"
+check 'seen "visible_results=true"' "the results table is laid out"
+# The numbers are those of stats.csv.
+last_core="$(awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next } { v = $col["core_temperature:cookie"] } END { printf "%.1f", v }' "$OUT/run/stats.csv")"
+check 'seen "core=$last_core °C"' "the final core temperature is the last row of stats.csv ($last_core degC)"
+check 'grep -q "^done=[0-9.]* min$" "$OUT/seen.txt" && grep -q "^weight=[0-9.]* % of the mass$" "$OUT/seen.txt" && grep -q "^crust-colour=.*browning index" "$OUT/seen.txt" && grep -q "^heat-in=[0-9.]* kJ" "$OUT/seen.txt"' "time to 95 degC, weight loss, crust colour and heat in are shown"
+timeout 120 "$CHROMIUM" --headless --no-sandbox --disable-gpu --hide-scrollbars --window-size=1200,2400 \
+  --screenshot="$OUT/report.png" "file://$OUT/run/report.html" >/dev/null 2>&1
+check '[ "$(head -c 4 "$OUT/report.png" | od -An -c | tr -d " ")" = "211PNG" ] && [ "$(stat -c %s "$OUT/report.png")" -gt 50000 ]' "Chromium screenshots the page"
+[ -n "${BAKESIM_REPORT_SCREENSHOT:-}" ] && cp "$OUT/report.png" "$BAKESIM_REPORT_SCREENSHOT"
+# Bad measured data is refused with the file named.
+printf 'minutes,T_C\n1,20\n' > "$OUT/no-time.csv"
+"$BAKESIM" report "$OUT/run" --compare "$OUT/no-time.csv" 2>"$OUT/no-time.txt"
+check '[ $? -eq 2 ] && grep -q "no-time.csv: needs a time column" "$OUT/no-time.txt"' "measured data without a time column is refused"
+"$BAKESIM" report "$OUT/run" --compare "$OUT/measured.csv=core:nothing" 2>"$OUT/no-column.txt"
+check '[ $? -eq 2 ] && grep -q "stats.csv has no such column" "$OUT/no-column.txt"' "an unknown stats.csv column is refused"
+exit $fail
