@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "physics/curves.hpp"
+#include "physics/food_properties.hpp"
 
 using namespace bakesim;
 
@@ -36,4 +37,31 @@ TEST(Curves, ConstantAndPiecewiseEvaluateThroughTheVariant) {
   EXPECT_TRUE(is_constant(ConstantCurve{0.3}));
   const TemperatureCurve eps = PiecewiseLinear({{26, 0.05}, {120, 5.0}});  // Eq 4.4
   EXPECT_NEAR(evaluate(eps, 73), 0.05 + 47.0 * 4.95 / 94.0, 1e-12);
+}
+
+// Choi & Okos (1986) composition model (physics/food_properties.hpp).
+TEST(FoodProperties, PureWaterIsWithinAPercentOfIapws) {
+  FoodComposition water;
+  water[FoodComponent::water] = 1;
+  const ThermalProperties p = food_properties(water, 20);
+  // IAPWS-95 / IAPWS 2008 at 20 °C, 1 atm: 998.2 kg/m³, 4182 J/(kg K), 0.598 W/(m K).
+  EXPECT_NEAR(p.density / 998.2, 1, 0.005);
+  EXPECT_NEAR(p.specific_heat / 4182, 1, 0.005);
+  EXPECT_NEAR(p.conductivity / 0.598, 1, 0.015);
+}
+
+TEST(FoodProperties, MixturesFollowTheSeriesAndParallelRules) {
+  // Half water, half fat by mass at 20 °C, worked by hand from the published coefficients.
+  FoodComposition f;
+  f[FoodComponent::water] = 0.5;
+  f[FoodComponent::fat] = 0.5;
+  const ThermalProperties p = food_properties(f, 20);
+  EXPECT_NEAR(p.density, 954.88, 0.05);
+  EXPECT_NEAR(p.specific_heat, 3094.16, 0.05);
+  EXPECT_NEAR(p.conductivity, 0.38059, 5e-5);
+  f.porosity = 0.2;  // a fifth of the volume air, in parallel
+  const ThermalProperties airy = food_properties(f, 20);
+  EXPECT_NEAR(airy.density, 0.8 * 954.88, 0.05);
+  EXPECT_DOUBLE_EQ(airy.specific_heat, p.specific_heat);
+  EXPECT_NEAR(airy.conductivity, 0.8 * 0.38059 + 0.2 * 0.026, 5e-5);
 }
