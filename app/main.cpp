@@ -26,6 +26,7 @@
 #include "core/progress.hpp"
 #include "io/checkpoint.hpp"
 #include "io/files.hpp"
+#include "io/materials.hpp"
 #include "io/run_directory.hpp"
 #include "io/run_meshes.hpp"
 #include "io/run_output.hpp"
@@ -457,6 +458,7 @@ int main(int argc, char** argv) {
       "  bakesim plot out/bread-roll                       probe temperatures, volume, height as PNG\n"
       "  bakesim report out/bread-roll                     out/bread-roll/report.html: numbers, pictures, plots\n"
       "  bakesim schema --markdown > docs/scene-reference.md\n"
+      "  bakesim materials                                 the material presets (\"preset\": \"cookie-dough\")\n"
       "Exit codes: 0 ok, 1 runtime or I/O failure, 2 bad input, 3 simulation failure, 129/130/143 stopped by "
       "SIGHUP/Ctrl-C/SIGTERM (checkpoint written).");
 
@@ -591,6 +593,11 @@ int main(int argc, char** argv) {
       app.add_subcommand("plot", "Plot a run's stats.csv into RUN_DIR/plots/ (temperatures, volume, height, moisture)");
   plot->add_option("run_dir", plot_dir, "Run directory (made by bakesim run)")->required();
 
+  bool materials_markdown_flag = false;
+  auto* materials_cmd = app.add_subcommand("materials", "List the material presets (materials/*.json, compiled in)");
+  materials_cmd->add_flag("--markdown", materials_markdown_flag,
+                          "Print docs/materials.md: every preset, its values and sources");
+
   bool markdown = false;
   auto* schema = app.add_subcommand("schema", "Print the scene JSON schema (or its Markdown reference)");
   schema->add_flag("--markdown", markdown, "Print the scene reference in Markdown");
@@ -667,6 +674,20 @@ int main(int argc, char** argv) {
       std::stringstream ms(bench_models);
       while (std::getline(ms, item, ',')) bench_opt.models.push_back(item);
       return run_bench(bench_opt);
+    }
+    if (*materials_cmd) {
+      if (materials_markdown_flag) {
+        std::cout << materials_markdown();
+      } else {
+        for (const auto& name : material_preset_names()) {
+          const auto p = material_preset(name, "materials");
+          std::vector<std::string> solvers;
+          for (const char* s : {"mpm", "sph"})
+            if (p.contains(s)) solvers.push_back(s);
+          fmt::print("{:18} {:9} {}\n", name, fmt::format("{}", fmt::join(solvers, ",")), p.value("description", ""));
+        }
+      }
+      return kExitOk;
     }
     if (*schema) {
       std::cout << (markdown ? scene_schema().markdown_reference() : scene_schema().schema().dump(2) + "\n");

@@ -12,6 +12,7 @@
 #include "core/errors.hpp"
 #include "core/quantity.hpp"
 #include "io/files.hpp"
+#include "io/materials.hpp"
 #include "io/scene_parts.hpp"
 #include "io/schema.hpp"
 
@@ -36,30 +37,26 @@ std::pair<int, int> line_column(const std::string& text, std::size_t byte) {
   return {line, col};
 }
 
-// Thesis Table 4.1 with Eq 4.1–4.4 (two-segment curves through T0, Tc, Tf)
-// and bread-dough thermal properties; keys the scene gives win.
-json dough_preset() {
-  return json{{"density", 1100.0},
-              {"specific_heat", 2800.0},
-              {"conductivity", 0.4},
-              {"viscosity", {{"curve", "piecewise_linear"}, {"points", {{26, 0.1}, {45, 1.0}, {120, 5e3}}}}},
-              {"elasticity", {{"curve", "piecewise_linear"}, {"points", {{26, 1.0}, {45, 10.0}, {120, 5e4}}}}},
-              {"relaxation_time",
-               {{"curve", "zhang_arctan"}, {"scale", 450.0}, {"centre", 65.0}, {"width", 2.0}, {"offset", 2.0}}},
-              {"xsph", {{"curve", "piecewise_linear"}, {"points", {{26, 0.05}, {120, 5.0}}}}}};
-}
-
-// The preset is the thesis's SPH dough: an MPM scene that names it is refused
-// by the schema (materials.NAME.preset is an SPH key), so it is not expanded there.
-void apply_material_presets(json& doc) {
-  if (!doc.contains("materials") || !doc["materials"].is_object()) return;
-  if (doc.contains("solver") && doc["solver"].is_object() && doc["solver"].value("type", json()) == "mpm") return;
-  const json preset = dough_preset();
+// materials.NAME.preset: the preset's values with the material's own over
+// them (io/materials.hpp), before the schema fills the defaults.
+std::vector<std::string> apply_material_presets(json& doc, const std::string& file) {
+  std::vector<std::string> notes;
+  if (!doc.contains("materials") || !doc["materials"].is_object()) return notes;
+  std::string solver = "sph";
+  if (doc.contains("solver") && doc["solver"].is_object() && doc["solver"].value("type", json()).is_string())
+    solver = doc["solver"]["type"].get<std::string>();
+  double clock = 1;
+  if (doc.contains("environment") && doc["environment"].is_object() &&
+      doc["environment"].value("bake_time_scale", json()).is_number())
+    clock = doc["environment"]["bake_time_scale"].get<double>();
+  if (!(clock > 0)) return notes;  // the schema refuses it, naming the key
   for (auto& [name, m] : doc["materials"].items()) {
-    if (!m.is_object() || !m.contains("preset") || m["preset"] != "dough") continue;
-    for (const auto& [key, value] : preset.items())
-      if (!m.contains(key)) m[key] = value;
+    if (!m.is_object() || !m.contains("preset") || !m["preset"].is_string() || m["preset"] == "none") continue;
+    std::string note;
+    m = expand_material_preset(m, solver, clock, file + ": materials." + name, note);
+    notes.push_back(note);
   }
+  return notes;
 }
 
 // Duplicate keys in one object are refused with their key path (nlohmann keeps
@@ -348,7 +345,7 @@ Scene build_scene(json doc, const std::string& file, const std::string& base_dir
                   const std::vector<SceneOverride>& overrides, std::vector<std::string> extends) {
   for (const SceneOverride& o : overrides) apply_override(doc, o);
   absolute_mesh_paths_of_scene(doc, base_dir);
-  apply_material_presets(doc);
+  std::vector<std::string> preset_notes = apply_material_presets(doc, file);
   scene_schema().validate(doc, file);
 
   const Ctx c{file, base_dir};
@@ -405,6 +402,7 @@ Scene build_scene(json doc, const std::string& file, const std::string& base_dir
   sc.output.particle_formats = doc["output"]["particles"].get<std::vector<std::string>>();
   sc.output.every_frames = doc["output"]["every_frames"].get<int>();
   sc.extends = std::move(extends);
+  sc.notes = std::move(preset_notes);
   sc.resolved = std::move(doc);
   return sc;
 }

@@ -43,6 +43,8 @@ struct Scene {
   std::vector<BodyInfo> bodies;
   std::vector<ProbeSpec> probes;
   OutputSpec output;
+  // What the loader did that a user should see in the log (the presets it expanded).
+  std::vector<std::string> notes;
   // The files this scene extends ("extends"), nearest first; the resolved scene has them merged in.
   std::vector<std::string> extends;
   // Values that are allowed but look like a unit mistake (an oven at 493 °C

@@ -113,3 +113,17 @@ TEST(MpmBakes, BreadLoafRisesItsCoreBakesThroughAndItsCrustTears) {
   EXPECT_GT(loaf.crust_bonds, 1000u);
   EXPECT_GT(double(loaf.torn_crust_bonds), 0.01 * double(loaf.crust_bonds));
 }
+
+// Issue 22 item 1: the 14-line cookie on a tray, from the cookie-dough preset
+// (its density, heat capacity and conductivity from its composition, its
+// viscosities physical and divided by the bake clock by bakesim).
+TEST(MpmBakes, CookieFromThePresetPuffsAndBakesThrough) {
+  const Outcome cookie = bake("cookie-on-a-tray", 0.005);  // scene: 3 mm
+  std::printf("preset cookie: volume ratio %.3f, height %.2f mm, core %.1f degC\n", cookie.volume_ratio,
+              cookie.height * 1e3, cookie.core_temperature);
+  RecordProperty("volume_ratio", std::to_string(cookie.volume_ratio));
+  EXPECT_GT(cookie.volume_ratio, 1.1);  // the leavener puffs it (at 3 mm: x1.46)
+  EXPECT_LT(cookie.volume_ratio, 2.5);
+  EXPECT_GT(cookie.core_temperature, 95.0);  // baked through in 12 minutes at 180 degC
+  EXPECT_LT(cookie.core_temperature, 180.0);
+}

@@ -1,5 +1,6 @@
 // Scene loading: every kind of bad input is answered with its location and
 // what is allowed; good input is resolved with every default filled in.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -9,6 +10,8 @@
 
 #include "core/errors.hpp"
 #include "io/checkpoint.hpp"
+#include "io/materials.hpp"
+#include "physics/food_properties.hpp"
 #include "io/scene.hpp"
 #include "io/schema.hpp"
 
@@ -293,8 +296,7 @@ TEST(Scene, KeysOfTheOtherSolverAreRefusedInBothDirections) {
 
   json mpm = mpm_scene();
   const std::vector<std::pair<std::string, json>> sph_only_material = {
-      {"viscosity", 1.0},   {"surface_tension", 0.07}, {"xsph", 0.1},
-      {"elasticity", 10.0}, {"relaxation_time", 2.0},  {"preset", "dough"}};
+      {"viscosity", 1.0}, {"surface_tension", 0.07}, {"xsph", 0.1}, {"elasticity", 10.0}, {"relaxation_time", 2.0}};
   for (const auto& [key, value] : sph_only_material) {
     json d = mpm;
     d["materials"]["dough"][key] = value;
@@ -561,9 +563,9 @@ TEST(Scene, ExtendsMergesTheVariantOverItsBase) {
                                     {"output", nullptr}});
   const Scene s = load_scene((dir / "variant.json").string());
   const json& r = s.resolved;
-  EXPECT_EQ(r["environment"]["air_temperature"], 150);         // the variant's value
+  EXPECT_EQ(r["environment"]["air_temperature"], 150);           // the variant's value
   EXPECT_EQ(r["environment"]["heat_transfer_coefficient"], 25);  // kept from the base
-  EXPECT_EQ(r["materials"]["water"]["density"], 1000);          // objects merge key by key
+  EXPECT_EQ(r["materials"]["water"]["density"], 1000);           // objects merge key by key
   EXPECT_EQ(r["materials"]["water"]["viscosity"], 0.002);
   EXPECT_EQ(r["output"]["particles"], json::array({"ply", "vtu"}));  // null removes: the default again
   EXPECT_EQ(s.name, "variant");                                      // the base's name is not inherited
@@ -636,4 +638,104 @@ TEST(Scene, ColliderTemperatureCanFollowTheOven) {
   EXPECT_DOUBLE_EQ((*s.sph.colliders[0].temperature)(300.0), 175.0);
   d["colliders"][0]["temperature"] = "hot";
   expect_error(d, {"colliders[0].temperature"});
+}
+
+namespace {
+
+json mpm_preset_scene(double clock) {
+  return json::parse(fmt::format(R"({{
+    "solver": {{"type": "mpm", "mpm": {{"cell_size": 0.005}}}},
+    "time": {{"end": 0.1}},
+    "domain": {{"min": [0, 0, 0], "max": [0.2, 0.2, 0.2]}},
+    "environment": {{"bake_time_scale": {}}},
+    "materials": {{"dough": {{"preset": "cookie-dough"}}}},
+    "bodies": [{{"name": "cookie", "material": "dough",
+                "shape": {{"type": "box", "min": [0.05, 0.05, 0.05], "max": [0.1, 0.07, 0.1]}}}}]
+  }})",
+                                 clock));
+}
+
+}  // namespace
+
+// Issue 22 item 1: presets with physical viscosities; bakesim divides them by the bake clock.
+TEST(Scene, PresetViscositiesArePhysicalAndDividedByTheBakeClock) {
+  const Scene a = parse_scene(mpm_preset_scene(360).dump(), "scene.json", ".");
+  const json& m = a.resolved["materials"]["dough"];
+  // The preset file holds 72,000 Pa s at 5 degC (bakesim's cookie scene: 200 Pa s on its clock of 360).
+  EXPECT_DOUBLE_EQ(m["plasticity"]["viscosity"]["points"][0][1].get<double>(), 200.0);
+  EXPECT_EQ(m["preset"], "none");  // the resolved scene holds the divided values and re-runs as it is
+  const Scene b = parse_scene(mpm_preset_scene(720).dump(), "scene.json", ".");
+  EXPECT_DOUBLE_EQ(b.resolved["materials"]["dough"]["plasticity"]["viscosity"]["points"][0][1].get<double>(), 100.0);
+  // A scene's own value for a physical time is physical too.
+  json own = mpm_preset_scene(360);
+  own["materials"]["dough"]["plasticity"] = {{"viscosity", 3600.0}};
+  EXPECT_DOUBLE_EQ(parse_scene(own.dump(), "scene.json", ".")
+                       .resolved["materials"]["dough"]["plasticity"]["viscosity"]
+                       .get<double>(),
+                   10.0);
+  // The resolved scene parses to itself.
+  const Scene again = parse_scene(a.resolved.dump(), "scene.json", ".");
+  EXPECT_EQ(again.resolved, a.resolved);
+  ASSERT_EQ(a.notes.size(), 1u);
+  EXPECT_NE(a.notes[0].find("preset cookie-dough"), std::string::npos) << a.notes[0];
+  EXPECT_NE(a.notes[0].find("divided by the bake clock 360"), std::string::npos) << a.notes[0];
+}
+
+TEST(Scene, PresetThermalPropertiesAndWaterComeFromTheComposition) {
+  const Scene s = parse_scene(mpm_preset_scene(360).dump(), "scene.json", ".");
+  const json& m = s.resolved["materials"]["dough"];
+  FoodComposition cookie;  // materials/cookie-dough.json
+  cookie[FoodComponent::water] = 0.1433, cookie[FoodComponent::protein] = 0.0427, cookie[FoodComponent::fat] = 0.1933;
+  cookie[FoodComponent::carbohydrate] = 0.5973, cookie[FoodComponent::fibre] = 0.0074,
+  cookie[FoodComponent::ash] = 0.0159;
+  cookie.porosity = 0.1;
+  const ThermalProperties t = food_properties(cookie, 20);
+  EXPECT_NEAR(m["density"].get<double>(), t.density, 0.5);
+  EXPECT_NEAR(m["specific_heat"].get<double>(), t.specific_heat, 0.5);
+  EXPECT_NEAR(m["conductivity"].get<double>(), t.conductivity, 5e-4);
+  // The particles carry the composition's water: saturation ρ_w / ρ is its mass fraction.
+  EXPECT_NEAR(m["water"]["saturation"].get<double>() * 1000 / m["density"].get<double>(), 0.1433, 1e-4);
+  // A density the scene gives wins, and the water follows it.
+  json denser = mpm_preset_scene(360);
+  denser["materials"]["dough"]["density"] = 1300;
+  const Scene dense = parse_scene(denser.dump(), "scene.json", ".");
+  const json& d = dense.resolved["materials"]["dough"];
+  EXPECT_EQ(d["density"], 1300);
+  EXPECT_NEAR(d["water"]["saturation"].get<double>() * 1000 / 1300, 0.1433, 1e-4);
+}
+
+TEST(Scene, PresetsAreCheckedByNameAndSolver) {
+  json typo = mpm_preset_scene(360);
+  typo["materials"]["dough"]["preset"] = "cookie-dought";
+  expect_error(typo, {"materials.dough.preset", "unknown preset 'cookie-dought'", "did you mean 'cookie-dough'"});
+  json sph = base_scene();
+  sph["materials"]["water"] = {{"preset", "cookie-dough"}};
+  expect_error(sph, {"materials.water.preset", "'cookie-dough' has no SPH rheology", "viscosity"});
+  sph["materials"]["water"]["viscosity"] = 50;  // its thermal properties, the scene's rheology
+  EXPECT_NO_THROW(parse_scene(sph.dump(), "scene.json", "."));
+  json mpm = mpm_preset_scene(360);
+  mpm["materials"]["dough"]["preset"] = "dough";
+  expect_error(mpm, {"materials.dough.preset", "'dough' has no MPM rheology", "for the SPH solver"});
+  // The thesis's SPH dough is what it was: its values, and its name kept in the resolved scene.
+  json thesis = base_scene();
+  thesis["materials"]["water"] = {{"preset", "dough"}};
+  const Scene t = parse_scene(thesis.dump(), "scene.json", ".");
+  const json& r = t.resolved["materials"]["water"];
+  EXPECT_EQ(r["preset"], "dough");
+  EXPECT_EQ(r["viscosity"]["points"], json::parse("[[26, 0.1], [45, 1.0], [120, 5000.0]]"));
+  EXPECT_DOUBLE_EQ(r["density"].get<double>(), 1100.0);
+}
+
+TEST(Scene, EveryPresetLoadsForItsSolvers) {
+  for (const std::string& name : material_preset_names()) {
+    const json p = material_preset(name, "test");
+    for (const char* solver : {"mpm", "sph"}) {
+      if (!p.contains(solver)) continue;
+      json doc = std::string(solver) == "mpm" ? mpm_preset_scene(360) : base_scene();
+      doc["materials"] = {{"m", {{"preset", name}}}};
+      doc["bodies"][0]["material"] = "m";
+      EXPECT_NO_THROW(make_solver(parse_scene(doc.dump(), "scene.json", "."))) << name << " " << solver;
+    }
+    EXPECT_TRUE(p.contains("sources")) << name;
+  }
 }

@@ -1,0 +1,11 @@
+# Writes OUTPUT: every DIR/*.json as a raw string, keyed by its file name (sorted).
+file(GLOB FILES ${DIR}/*.json)
+list(SORT FILES)
+set(BODY "")
+foreach(FILE ${FILES})
+  get_filename_component(NAME ${FILE} NAME_WE)
+  file(READ ${FILE} TEXT)
+  string(APPEND BODY "    {\"${NAME}\", R\"PRESET_JSON(${TEXT})PRESET_JSON\"},\n")
+endforeach()
+list(LENGTH FILES COUNT)
+file(WRITE ${OUTPUT} "#include <cstddef>\n#include <utility>\nnamespace bakesim {\nextern const std::pair<const char*, const char*> kMaterialPresetFiles[];\nextern const std::size_t kMaterialPresetCount;\nconst std::pair<const char*, const char*> kMaterialPresetFiles[] = {\n${BODY}};\nconst std::size_t kMaterialPresetCount = ${COUNT};\n}\n")
