@@ -127,6 +127,8 @@ void absolute_mesh_paths(json& shape, const fs::path& base_dir, int depth = 0) {
 // Temperatures of an oven, a tray or a hob above this look typed in kelvin or
 // °F (a pizza oven reaches 450 °C, so they are warnings, not errors).
 constexpr double kPlausibleHotDegC = 300;
+// An oven at least this hot bakes (below it, a scene may well simulate water).
+constexpr double kBakingAirDegC = 100;
 // Bodies larger than this look typed in millimetres.
 constexpr double kPlausibleBodyMetres = 2;
 
@@ -346,6 +348,16 @@ Scene build_scene(json doc, const std::string& file, const std::string& base_dir
   for (const SceneOverride& o : overrides) apply_override(doc, o);
   absolute_mesh_paths_of_scene(doc, base_dir);
   std::vector<std::string> preset_notes = apply_material_presets(doc, file);
+  // Materials that leave their thermal properties to the schema's defaults (water's), before it fills them.
+  std::vector<std::string> water_defaults;
+  if (doc.contains("materials") && doc["materials"].is_object())
+    for (const auto& [name, m] : doc["materials"].items()) {
+      if (!m.is_object()) continue;
+      std::vector<std::string> missing;
+      for (const char* key : {"density", "specific_heat", "conductivity"})
+        if (!m.contains(key)) missing.push_back(key);
+      if (!missing.empty()) water_defaults.push_back(fmt::format("materials.{} ({})", name, fmt::join(missing, ", ")));
+    }
   scene_schema().validate(doc, file);
 
   const Ctx c{file, base_dir};
@@ -373,6 +385,12 @@ Scene build_scene(json doc, const std::string& file, const std::string& base_dir
 
   const SceneParts parts = read_common(c, doc, solver_friction_model(sc.solver_type));
   sc.warnings = plausibility_warnings(c, doc, parts);
+  // In a bake, water's thermal properties for a dough are a forgotten key, not a choice.
+  if (highest_temperature(parts.world.oven.air_temperature) >= kBakingAirDegC && parts.world.oven.bake_time_scale > 1)
+    for (const auto& m : water_defaults)
+      sc.warnings.push_back(m +
+                            " not given: water's are used (1000 kg/m^3, 4181 J/(kg K), 0.6 W/(m K)); name a "
+                            "preset (bakesim materials) or give them");
   sc.oven = parts.world.oven;
   sc.gravity = parts.world.gravity;
   // The bodies as the stats columns need them, from the chosen solver's setup

@@ -739,3 +739,16 @@ TEST(Scene, EveryPresetLoadsForItsSolvers) {
     EXPECT_TRUE(p.contains("sources")) << name;
   }
 }
+
+// Issue 22 item 1: a dough baked with water's thermal properties (the schema's defaults) is warned about.
+TEST(Scene, ABakeOfAMaterialWithoutThermalPropertiesIsWarnedAbout) {
+  json bake = base_scene();
+  bake["environment"] = {{"air_temperature", 180}, {"bake_time_scale", 100}};
+  const auto w = parse_scene(bake.dump(), "scene.json", ".").warnings;
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_NE(w[0].find("materials.water (specific_heat, conductivity) not given: water's are used"), std::string::npos)
+      << w[0];
+  bake["materials"]["water"] = {{"preset", "dough"}};  // the preset gives them
+  EXPECT_TRUE(parse_scene(bake.dump(), "scene.json", ".").warnings.empty());
+  EXPECT_TRUE(parse_scene(base_scene().dump(), "scene.json", ".").warnings.empty());  // water at room temperature
+}
