@@ -4,7 +4,9 @@
 // past 90 °C.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 
@@ -62,4 +64,45 @@ TEST(BreadRoll, RisesStaysInItsTinAndBakesThrough) {
   EXPECT_EQ(outside, 0);
   EXPECT_GT(last_core, 90.0);
   EXPECT_LE(max_drop, 0.01);  // monotone up to round-off
+}
+
+// Issue 22 item 1: the cookie of the cookie-dough preset in SPH (the same
+// preset and tray as the MPM cookie): it spreads as its butter melts, sets,
+// stays on the tray and bakes through; its core reaches 95 °C when the MPM
+// cookie's does, within a minute (both take the preset's thermal properties).
+TEST(SphCookie, FromThePresetItSpreadsSetsAndBakesThrough) {
+  const std::string dir = std::string(BAKESIM_SOURCE_DIR) + "/scenes";
+  std::ifstream in(dir + "/cookie-on-a-tray-sph.json");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  auto doc = nlohmann::json::parse(ss.str());
+  doc["solver"]["sph"]["spacing"] = 0.003;  // ~1,000 particles instead of 3,423
+  Scene scene = parse_scene(doc.dump(), "cookie-on-a-tray-sph.json", dir);
+  sph::SphSolver solver(scene.sph);
+  auto width = [](const ParticleSet& ps) {
+    double lo = 1e9, hi = -1e9;
+    for (const Vec3& x : ps.vector("position")) lo = std::min(lo, double(x.x())), hi = std::max(hi, double(x.x()));
+    return hi - lo;
+  };
+  const auto before = compute_body_stats(solver.particles(), 1, Vec3::UnitY())[0];
+  const double width0 = width(solver.particles());
+  double minutes_to_95 = -1, lowest = 1;
+  while (solver.time() < scene.end_time - 1e-12) {
+    solver.step(std::min(solver.max_stable_dt(), scene.end_time - solver.time()));  // throws on NaN
+    const auto& ps = solver.particles();
+    const auto& temperature = ps.scalar("temperature");
+    if (minutes_to_95 < 0 && *std::min_element(temperature.begin(), temperature.end()) >= 95)
+      minutes_to_95 = scene.oven.bake_time(solver.time()) / 60;
+    for (const Vec3& x : ps.vector("position")) lowest = std::min(lowest, double(x.y()));
+  }
+  const auto after = compute_body_stats(solver.particles(), 1, Vec3::UnitY())[0];
+  const double width1 = width(solver.particles());
+  std::printf("SPH cookie: width %.1f -> %.1f mm, height %.1f -> %.1f mm, core 95 degC at %.2f min, lowest %.2f mm\n",
+              width0 * 1e3, width1 * 1e3, before.height() * 1e3, after.height() * 1e3, minutes_to_95, lowest * 1e3);
+  RecordProperty("minutes_to_95", std::to_string(minutes_to_95));
+  EXPECT_GT(width1, 1.05 * width0);            // it spreads
+  EXPECT_LT(after.height(), before.height());  // and flattens
+  EXPECT_GT(minutes_to_95, 3.0);               // the MPM cookie: 4.7 min at 3 mm
+  EXPECT_LT(minutes_to_95, 7.0);
+  EXPECT_GT(lowest, -0.001);  // on the tray (its top at y = 0)
 }
