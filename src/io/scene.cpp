@@ -114,7 +114,8 @@ class DuplicateKeyCheck {
 // a copied run resumes). Shapes nest at most 64 deep (the schema's limit).
 void absolute_mesh_paths(json& shape, const fs::path& base_dir, int depth = 0) {
   if (!shape.is_object() || depth > 64) return;
-  if (shape.value("type", "") == "mesh" && shape.contains("file") && shape["file"].is_string()) {
+  // Before the schema: "type" may be anything (found by fuzzing: a number threw from value()).
+  if (shape.contains("type") && shape["type"] == "mesh" && shape.contains("file") && shape["file"].is_string()) {
     const fs::path file = shape["file"].get<std::string>();
     if (file.is_relative() && !file.empty()) shape["file"] = fs::absolute(base_dir / file).lexically_normal().string();
   }

@@ -752,3 +752,14 @@ TEST(Scene, ABakeOfAMaterialWithoutThermalPropertiesIsWarnedAbout) {
   EXPECT_TRUE(parse_scene(bake.dump(), "scene.json", ".").warnings.empty());
   EXPECT_TRUE(parse_scene(base_scene().dump(), "scene.json", ".").warnings.empty());  // water at room temperature
 }
+
+// Found by fuzzing (2026-12-02): values of the wrong type that the loader reads before the schema
+// (a shape's "type", a preset material's viscosity curve) threw JSON's own error, not one with the key path.
+TEST(Scene, WrongTypesReadBeforeTheSchemaAreErrorsWithTheirKeyPath) {
+  json shape = base_scene();
+  shape["bodies"][0]["shape"]["type"] = 7;
+  expect_error(shape, {"bodies[0].shape"});
+  json curve = mpm_preset_scene(360);
+  curve["materials"]["dough"]["plasticity"] = {{"viscosity", {{"curve", 5}, {"points", {{20, 100}}}}}};
+  expect_error(curve, {"materials.dough.plasticity.viscosity", "divides by the bake clock"});
+}
