@@ -40,8 +40,8 @@ void divide_by_clock(json& value, double clock, const std::string& where) {
     value = value.get<double>() / clock;
     return;
   }
-  if (value.is_object() && value.contains("curve") && value["curve"] == "piecewise_linear" && value.contains("points") &&
-      value["points"].is_array()) {
+  if (value.is_object() && value.contains("curve") && value["curve"] == "piecewise_linear" &&
+      value.contains("points") && value["points"].is_array()) {
     for (auto& p : value["points"])
       if (p.is_array() && p.size() == 2 && p[1].is_number()) p[1] = p[1].get<double>() / clock;
     return;
