@@ -10,6 +10,7 @@
 
 #include "core/errors.hpp"
 #include "io/files.hpp"
+#include "render/run_results.hpp"
 
 namespace bakesim::render {
 
@@ -117,13 +118,23 @@ Image plot_lines(const PlotSpec& spec, const TextRenderer& text) {
   for (std::size_t k = 0; k < spec.series.size(); ++k) {
     const Series& s = spec.series[k];
     const Rgb c = kColours[k % std::size(kColours)];
-    double dash = 0;
+    double dash = 0;  // length drawn so far along a dashed line: 9 px on, 7 px off
     for (std::size_t i = 1; i < s.x.size() && i < s.y.size(); ++i) {
       if (!std::isfinite(s.x[i - 1] + s.y[i - 1] + s.x[i] + s.y[i])) continue;
       const double x0 = X(s.x[i - 1]), y0 = Y(s.y[i - 1]), x1 = X(s.x[i]), y1 = Y(s.y[i]);
-      dash += std::hypot(x1 - x0, y1 - y0);
-      if (s.dashed && std::fmod(dash, 16.0) > 9.0) continue;
-      segment(img, x0, y0, x1, y1, 2.2, c);
+      if (!s.dashed) {
+        segment(img, x0, y0, x1, y1, 2.2, c);
+        continue;
+      }
+      // A dashed segment is drawn in pieces of at most 1 px, each on or off by where it lies along the line.
+      const double length = std::hypot(x1 - x0, y1 - y0);
+      const int pieces = std::max(1, int(std::ceil(length)));
+      for (int k = 0; k < pieces; ++k) {
+        const double a = double(k) / pieces, b = double(k + 1) / pieces;
+        if (std::fmod(dash + a * length, 16.0) < 9.0)
+          segment(img, x0 + a * (x1 - x0), y0 + a * (y1 - y0), x0 + b * (x1 - x0), y0 + b * (y1 - y0), 2.2, c);
+      }
+      dash += length;
     }
     if (s.x.size() == 1 && std::isfinite(s.x[0] + s.y[0]))
       segment(img, X(s.x[0]), Y(s.y[0]), X(s.x[0]), Y(s.y[0]), 5, c);
@@ -132,7 +143,10 @@ Image plot_lines(const PlotSpec& spec, const TextRenderer& text) {
   int ly = top + 18;
   for (std::size_t k = 0; k < spec.series.size(); ++k) {
     const Rgb c = kColours[k % std::size(kColours)];
-    segment(img, left + 14, ly - 5, left + 40, ly - 5, 3, c);
+    if (spec.series[k].dashed)
+      for (int d = 0; d < 3; ++d) segment(img, left + 14 + 10 * d, ly - 5, left + 20 + 10 * d, ly - 5, 3, c);
+    else
+      segment(img, left + 14, ly - 5, left + 40, ly - 5, 3, c);
     text.draw(img, left + 48, ly, spec.series[k].name, 14, black);
     ly += 20;
   }
@@ -230,6 +244,12 @@ std::vector<fs::path> plot_run(const fs::path& run_dir) {
   }
   if (!temps.series.empty()) {
     if (const auto* air = t.column("air_temperature")) temps.series.push_back({"oven air", x, *air, true});
+    // The doneness line of the report and the sweep (render/run_results.hpp), where the run has a core.
+    bool has_core = false;
+    for (const auto& n : t.names) has_core = has_core || starts(n, "core_temperature:");
+    if (has_core && !x.empty())
+      temps.series.push_back(
+          {fmt::format("done ({:g} °C)", kDoneCoreDegC), {x.front(), x.back()}, {kDoneCoreDegC, kDoneCoreDegC}, true});
   } else if (const auto* mean = t.column("mean_temperature")) {
     temps.series.push_back({"mean", x, *mean});
     if (const auto* mx = t.column("max_temperature")) temps.series.push_back({"max", x, *mx});

@@ -709,8 +709,8 @@ TEST(Scene, PresetsAreCheckedByNameAndSolver) {
   typo["materials"]["dough"]["preset"] = "cookie-dought";
   expect_error(typo, {"materials.dough.preset", "unknown preset 'cookie-dought'", "did you mean 'cookie-dough'"});
   json sph = base_scene();
-  sph["materials"]["water"] = {{"preset", "cookie-dough"}};
-  expect_error(sph, {"materials.water.preset", "'cookie-dough' has no SPH rheology", "viscosity"});
+  sph["materials"]["water"] = {{"preset", "muffin-batter"}};
+  expect_error(sph, {"materials.water.preset", "'muffin-batter' has no SPH rheology", "viscosity"});
   sph["materials"]["water"]["viscosity"] = 50;  // its thermal properties, the scene's rheology
   EXPECT_NO_THROW(parse_scene(sph.dump(), "scene.json", "."));
   json mpm = mpm_preset_scene(360);

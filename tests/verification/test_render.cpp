@@ -140,3 +140,28 @@ TEST(Plot, ATinyOrDegenerateSpanStillGetsTicksAndAPicture) {
   const Image img = plot_lines(spec, text);
   EXPECT_EQ(img.width, 200);
 }
+
+// A dashed series with few points (the doneness line: two) was drawn solid.
+TEST(Plot, ADashedLineOfTwoPointsIsDrawnInDashes) {
+  PlotSpec spec{"dashes", "x", "y", {}, 400, 300};
+  spec.series.push_back({"done", {0, 10}, {5, 5}, true});
+  spec.series.push_back({"ramp", {0, 10}, {0, 10}});  // gives the axes a span around y = 5
+  const TextRenderer text;
+  const Image img = plot_lines(spec, text);
+  // Along the line's row, right of the legend: runs of its colour (31, 119, 180) and gaps between them.
+  const int top = 50, bottom = 300 - 70, row = (top + bottom) / 2;
+  int runs = 0, gaps = 0;
+  bool on = false;
+  for (int x = 200; x < 360; ++x) {
+    bool hit = false;
+    for (int y = row - 3; y <= row + 3; ++y) {
+      const std::uint8_t* p = img.at(x, y);
+      hit = hit || (std::abs(p[0] - 31) < 40 && std::abs(p[1] - 119) < 40 && std::abs(p[2] - 180) < 40);
+    }
+    if (hit && !on) ++runs;
+    if (!hit && on) ++gaps;
+    on = hit;
+  }
+  EXPECT_GE(runs, 8) << "160 px of a 16-px dash pattern";
+  EXPECT_GE(gaps, 8);
+}
