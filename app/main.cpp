@@ -444,6 +444,7 @@ int main(int argc, char** argv) {
       "Examples:\n"
       "  bakesim run scenes/dam-break.json                 bake into out/dam-break/\n"
       "  bakesim run scenes/dam-break.json --out /tmp/db --threads 2 --end-time 0.5\n"
+      "  bakesim run scenes/bread-roll.json --preview      a quick look (8x fewer particles, pictures) in a minute\n"
       "  bakesim run scenes/cookie-baseline.json --set environment.air_temperature=200 --out out/cookie-200\n"
       "  bakesim run --resume out/bread-roll               go on from the newest checkpoint (after Ctrl-C, a crash, a "
       "kill)\n"
