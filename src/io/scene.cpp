@@ -59,6 +59,18 @@ std::vector<std::string> apply_material_presets(json& doc, const std::string& fi
   return notes;
 }
 
+// environment.oven: the air coefficient of a kind of oven, where the scene gives none. The
+// midpoints of the ranges in shared/spec/water-and-latent-heat.md (natural convection 10-20,
+// forced 25-40 W/(m² K); Zhang et al. 2005 set up their loaf with 10).
+void apply_oven_preset(json& doc) {
+  if (!doc.contains("environment") || !doc["environment"].is_object()) return;
+  json& env = doc["environment"];
+  if (!env.contains("oven") || !env["oven"].is_string() || env.contains("heat_transfer_coefficient")) return;
+  const std::string oven = env["oven"].get<std::string>();
+  if (oven == "conventional" || oven == "deck") env["heat_transfer_coefficient"] = 15.0;
+  if (oven == "fan") env["heat_transfer_coefficient"] = 30.0;  // any other name: the schema refuses it
+}
+
 // Duplicate keys in one object are refused with their key path (nlohmann keeps
 // the last silently, so a value typed twice would quietly lose the first).
 class DuplicateKeyCheck {
@@ -348,6 +360,7 @@ Scene build_scene(json doc, const std::string& file, const std::string& base_dir
                   const std::vector<SceneOverride>& overrides, std::vector<std::string> extends) {
   for (const SceneOverride& o : overrides) apply_override(doc, o);
   absolute_mesh_paths_of_scene(doc, base_dir);
+  apply_oven_preset(doc);
   std::vector<std::string> preset_notes = apply_material_presets(doc, file);
   // Materials that leave their thermal properties to the schema's defaults (water's), before it fills them.
   std::vector<std::string> water_defaults;

@@ -763,3 +763,20 @@ TEST(Scene, WrongTypesReadBeforeTheSchemaAreErrorsWithTheirKeyPath) {
   curve["materials"]["dough"]["plasticity"] = {{"viscosity", {{"curve", 5}, {"points", {{20, 100}}}}}};
   expect_error(curve, {"materials.dough.plasticity.viscosity", "divides by the bake clock"});
 }
+
+// Issue 22 item 1: oven presets give the air coefficient where the scene gives none.
+TEST(Scene, OvenPresetsGiveTheAirCoefficient) {
+  auto coefficient = [](const json& doc) {
+    return parse_scene(doc.dump(), "scene.json", ".").oven.heat_transfer_coefficient;
+  };
+  json d = base_scene();
+  EXPECT_DOUBLE_EQ(coefficient(d), 10.0);  // no preset: the default
+  d["environment"]["oven"] = "fan";
+  EXPECT_DOUBLE_EQ(coefficient(d), 30.0);
+  d["environment"]["oven"] = "conventional";
+  EXPECT_DOUBLE_EQ(coefficient(d), 15.0);
+  d["environment"]["heat_transfer_coefficient"] = 22;  // the scene's own value wins
+  EXPECT_DOUBLE_EQ(coefficient(d), 22.0);
+  d["environment"]["oven"] = "convection";
+  expect_error(d, {"environment.oven", "conventional"});
+}
