@@ -178,9 +178,9 @@ const char* kColours[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd",
 
 struct SvgSeries {
   std::string name;
-  std::vector<double> x, y, spread;
+  std::vector<double> x = {}, y = {}, spread = {};
   bool dashed = false, markers = false;
-  std::string colour;  // "" picks the next of kColours
+  std::string colour = {};  // "" picks the next of kColours
 };
 
 struct SvgPlot {
