@@ -52,6 +52,7 @@ std::vector<std::string> apply_material_presets(json& doc, const std::string& fi
   if (!(clock > 0)) return notes;  // the schema refuses it, naming the key
   for (auto& [name, m] : doc["materials"].items()) {
     if (!m.is_object() || !m.contains("preset") || !m["preset"].is_string() || m["preset"] == "none") continue;
+    require_nesting_within(m, kMaxSceneNesting, file + ": materials." + name);  // the expansion copies it
     std::string note;
     m = expand_material_preset(m, solver, clock, file + ": materials." + name, note);
     notes.push_back(note);
@@ -227,6 +228,7 @@ SceneOverride parse_override(const std::string& text) {
   } catch (const json::exception&) {
     o.value = value;  // a plain word: a string ("sph", "implicit")
   }
+  require_nesting_within(o.value, kMaxSceneNesting, "--set " + o.path);  // applying it copies it
   return o;
 }
 
@@ -302,11 +304,19 @@ struct SceneLayer {
 json resolve_extends(json doc, const std::string& file, const fs::path& base_dir, std::vector<SceneLayer>& layers,
                      std::vector<fs::path>& chain) {
   absolute_mesh_paths_of_scene(doc, base_dir);
-  layers.push_back({file, doc});
-  if (!doc.contains("extends")) return doc;
+  // A scene without "extends" is not copied (the schema judges its nesting later); the files of a
+  // chain are kept to tell which gave a key, so they are checked before they are copied.
+  if (!doc.contains("extends")) {
+    if (!layers.empty()) {
+      require_nesting_within(doc, kMaxSceneNesting, file);
+      layers.push_back({file, doc});
+    }
+    return doc;
+  }
+  require_nesting_within(doc, kMaxSceneNesting, file);
   const json extends = doc["extends"];
   doc.erase("extends");
-  layers.back().doc = doc;
+  layers.push_back({file, doc});
   if (!extends.is_string() || extends.get<std::string>().empty())
     throw InputError(file + ": extends", "must be the path of the scene file this one builds on (relative to " +
                                              std::string("this file), got ") + extends.dump());
@@ -446,7 +456,7 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::s
   std::vector<SceneLayer> layers;
   std::vector<fs::path> chain{fs::weakly_canonical(fs::path(file))};
   json doc = resolve_extends(parse_document(text, file), file, base_dir, layers, chain);
-  if (layers.size() == 1) return build_scene(std::move(doc), file, base_dir, overrides, {});
+  if (layers.empty()) return build_scene(std::move(doc), file, base_dir, overrides, {});  // no "extends"
   std::vector<std::string> extends;
   for (std::size_t i = 1; i < layers.size(); ++i) extends.push_back(layers[i].file);
   try {

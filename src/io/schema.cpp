@@ -154,6 +154,17 @@ bool read_by(const json& property, const std::string& solver) {
 
 }  // namespace
 
+void require_nesting_within(const json& value, int levels, const std::string& where) {
+  std::vector<std::pair<const json*, int>> stack{{&value, 0}};
+  while (!stack.empty()) {
+    const auto [node, depth] = stack.back();
+    stack.pop_back();
+    if (!node->is_structured()) continue;
+    if (depth >= levels) throw InputError(where, fmt::format("nested more than {} levels deep", levels));
+    for (const json& child : *node) stack.emplace_back(&child, depth + 1);
+  }
+}
+
 void SchemaValidator::check(json& value, const json& schema_in, const std::string& path, const std::string& file,
                             const std::string& solver) const {
   // A scene is a few levels deep (a union of unions of shapes is the deepest

@@ -34,6 +34,13 @@ class SchemaValidator {
 // The scene schema compiled into the binary (schema/scene.schema.json).
 const SchemaValidator& scene_schema();
 
+// InputError(where, ...) when `value` nests more than `levels` arrays and
+// objects deep. Walks without recursion: it guards the code that copies or
+// merges a document before the schema sees it (copying recurses, and a
+// value nested 100,000 deep overflowed the stack under AddressSanitizer).
+void require_nesting_within(const nlohmann::json& value, int levels, const std::string& where);
+inline constexpr int kMaxSceneNesting = 200;  // real scenes nest under 20
+
 // Closest candidate by edit distance, or "" when none is reasonably close.
 std::string closest_match(const std::string& word, const std::vector<std::string>& candidates);
 

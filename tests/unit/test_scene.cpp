@@ -780,3 +780,31 @@ TEST(Scene, OvenPresetsGiveTheAirCoefficient) {
   d["environment"]["oven"] = "convection";
   expect_error(d, {"environment.oven", "conventional"});
 }
+
+// Found under AddressSanitizer (2026-12-02): the copies that "extends", presets and --set make
+// recursed through a value nested 100,000 deep. Such values are refused before they are copied.
+TEST(Scene, DeeplyNestedValuesAreRefusedBeforeTheyAreCopied) {
+  const std::string nested = std::string(100000, '[') + std::string(100000, ']');
+  EXPECT_THROW(parse_override("materials.water.density=" + nested), InputError);
+  try {
+    parse_override("materials.water.density=" + nested);
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("nested more than 200 levels deep"), std::string::npos) << e.what();
+  }
+  const auto dir = scene_folder("bakesim_test_deep");
+  std::string base = base_scene().dump();
+  base.replace(base.find("\"density\":1000"), std::string("\"density\":1000").size(), "\"density\":" + nested);
+  std::ofstream(dir / "base.json") << base;
+  write_json(dir / "variant.json", {{"extends", "base.json"}});
+  try {
+    load_scene((dir / "variant.json").string());
+    ADD_FAILURE() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("nested more than"), std::string::npos) << e.what();
+  }
+  json preset = mpm_preset_scene(360);
+  std::string text = preset.dump();
+  text.replace(text.find("\"preset\":\"cookie-dough\""), std::string("\"preset\":\"cookie-dough\"").size(),
+               "\"preset\":\"cookie-dough\",\"density\":" + nested);
+  expect_text_error(text, {"materials.dough", "nested more than"});
+}
