@@ -21,7 +21,7 @@ rows=$(($(wc -l < "$OUT/measured.csv") - 2))
 check '[ $? -eq 0 ] && grep -qx "$OUT/run/report.html" "$OUT/report.txt"' "report writes RUN_DIR/report.html"
 check '[ -z "$(grep -o "src=\"[^d][^\"]*\"\|href=\|url(" "$OUT/run/report.html")" ]' "the page needs no other file (pictures inline, no links)"
 sed "s|REPORT|file://$OUT/run/report.html|" "$ROOT/tests/regression/report_check.html" > "$OUT/check.html"
-timeout 120 "$CHROMIUM" --headless --no-sandbox --disable-gpu --allow-file-access-from-files --virtual-time-budget=10000 \
+timeout 120 "$CHROMIUM" --headless --no-sandbox --disable-gpu --disable-dev-shm-usage --allow-file-access-from-files --virtual-time-budget=10000 \
   --dump-dom "file://$OUT/check.html" 2>/dev/null | sed -n '/<pre/,/<\/pre>/p' | sed 's/<[^>]*>//g' > "$OUT/seen.txt"
 cat "$OUT/seen.txt"
 seen() { grep -qx "$1" "$OUT/seen.txt"; }
@@ -36,7 +36,7 @@ check 'seen "visible_results=true"' "the results table is laid out"
 last_core="$(awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next } { v = $col["core_temperature:cookie"] } END { printf "%.1f", v }' "$OUT/run/stats.csv")"
 check 'seen "core=$last_core °C"' "the final core temperature is the last row of stats.csv ($last_core degC)"
 check 'grep -q "^done=[0-9.]* min$" "$OUT/seen.txt" && grep -q "^weight=[0-9.]* % of the mass$" "$OUT/seen.txt" && grep -q "^crust-colour=.*browning index" "$OUT/seen.txt" && grep -q "^heat-in=[0-9.]* kJ" "$OUT/seen.txt"' "time to 95 degC, weight loss, crust colour and heat in are shown"
-timeout 120 "$CHROMIUM" --headless --no-sandbox --disable-gpu --hide-scrollbars --window-size=1200,2400 \
+timeout 120 "$CHROMIUM" --headless --no-sandbox --disable-gpu --disable-dev-shm-usage --hide-scrollbars --window-size=1200,2400 \
   --screenshot="$OUT/report.png" "file://$OUT/run/report.html" >/dev/null 2>&1
 check '[ "$(head -c 4 "$OUT/report.png" | od -An -c | tr -d " ")" = "211PNG" ] && [ "$(stat -c %s "$OUT/report.png")" -gt 50000 ]' "Chromium screenshots the page"
 [ -n "${BAKESIM_REPORT_SCREENSHOT:-}" ] && cp "$OUT/report.png" "$BAKESIM_REPORT_SCREENSHOT"
