@@ -203,7 +203,9 @@ int command_sweep(const SweepArgs& a, const std::string& self) {
       } else {
         argv.push_back(a.scene);
         for (const auto& s : points[i].sets) argv.insert(argv.end(), {"--set", s});
-        argv.insert(argv.end(), {"--out", run_dir.string()});
+        // runs/ is the sweep's own: an earlier point's run of another scene there (another grid, or a
+        // preview) is moved aside into its previous/, never deleted.
+        argv.insert(argv.end(), {"--out", run_dir.string(), "--force"});
         if (a.end_time > 0) argv.insert(argv.end(), {"--end-time", fmt::format("{}", a.end_time)});
         if (a.preview) argv.push_back("--preview");
       }

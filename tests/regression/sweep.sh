@@ -64,4 +64,8 @@ check '[ "$(ls "$OUT"/stop/runs/*/checkpoints/*.ckpt | wc -l)" -ge 2 ] && [ "$(g
   --jobs 2 --threads 1 --out "$OUT/stop" >/dev/null 2>"$OUT/resume.txt"
 check '[ $? -eq 0 ] && grep -q "resumed from" "$OUT"/stop/runs/1-*/log.txt && grep -q "resumed from" "$OUT"/stop/runs/2-*/log.txt' "the same command again resumes both runs"
 check '[ "$(wc -l < "$OUT"/stop/runs/1-air_temperature=100/stats.csv)" -eq 202 ]' "a resumed run ends with every frame once (201 rows)"
+# The same grid as a preview into the same directory: each run's earlier run of the full scene moves aside.
+"$BAKESIM" sweep "$ROOT/tests/data/good_small.json" --set environment.air_temperature=100,200 --preview \
+  --out "$OUT/stop" >/dev/null 2>"$OUT/preview.txt"
+check '[ $? -eq 0 ] && [ -f "$OUT"/stop/runs/1-air_temperature=100/previous/stats.csv ] && grep -q "good_small-preview\|-preview" "$OUT"/stop/runs/1-air_temperature=100/scene.json' "a preview of the grid into the same sweep moves the earlier runs into their previous/"
 exit $fail
