@@ -352,7 +352,9 @@ svg .tick { font-size: 11px; fill: #555; } svg .label { font-size: 13px; } svg .
 
 }  // namespace
 
-ReportResult write_report(const fs::path& run_dir, const ReportOptions& o) {
+namespace {
+
+ReportResult write_report_of(const fs::path& run_dir, const ReportOptions& o) {
   ReportResult result;
   auto& notes = result.notes;
   const RunResults r = read_run_results(run_dir);
@@ -624,6 +626,18 @@ ReportResult write_report(const fs::path& run_dir, const ReportOptions& o) {
   result.file = o.output.empty() ? run_dir / "report.html" : o.output;
   write_file_atomic(result.file, h);
   return result;
+}
+
+}  // namespace
+
+ReportResult write_report(const fs::path& run_dir, const ReportOptions& o) {
+  try {
+    return write_report_of(run_dir, o);
+  } catch (const nlohmann::json::exception& e) {
+    // bakesim wrote scene.json; one edited by hand into another shape is named, with what was wrong.
+    throw InputError((run_dir / "scene.json").string(),
+                     std::string("does not read as the resolved scene of a run: ") + e.what());
+  }
 }
 
 }  // namespace bakesim::render

@@ -46,4 +46,9 @@ printf 'minutes,T_C\n1,20\n' > "$OUT/no-time.csv"
 check '[ $? -eq 2 ] && grep -q "no-time.csv: needs a time column" "$OUT/no-time.txt"' "measured data without a time column is refused"
 "$BAKESIM" report "$OUT/run" --compare "$OUT/measured.csv=core:nothing" 2>"$OUT/no-column.txt"
 check '[ $? -eq 2 ] && grep -q "stats.csv has no such column" "$OUT/no-column.txt"' "an unknown stats.csv column is refused"
+# A run whose scene.json was edited into another shape is named (exit 2), not reported with JSON's message alone.
+cp -r "$OUT/run" "$OUT/edited"
+sed -i 's/"bodies": \[/"bodies": 5, "unused": [/' "$OUT/edited/scene.json"
+"$BAKESIM" report "$OUT/edited" 2>"$OUT/edited.txt"
+check '[ $? -eq 2 ] && grep -q "edited/scene.json: does not read as the resolved scene of a run" "$OUT/edited.txt"' "a hand-edited scene.json is refused with its file named"
 exit $fail
