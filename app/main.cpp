@@ -74,17 +74,6 @@ extern "C" void on_stop_signal(int sig) {
   }
 }
 
-// The default output directory out/NAME: the scene's name as one safe path
-// component (a name with "/" or ".." must not reach another directory).
-std::string output_name(const std::string& name) {
-  std::string out;
-  for (const unsigned char ch : name) out += std::isalnum(ch) || ch == '-' || ch == '_' || ch == '.' ? char(ch) : '_';
-  const std::size_t first = out.find_first_not_of('.');
-  out = first == std::string::npos ? "" : out.substr(first);
-  if (out.size() > 100) out.resize(100);
-  return out.empty() ? "scene" : out;
-}
-
 // Control characters of file names and scene text are shown escaped, never sent to the terminal.
 std::string printable(const std::string& s) {
   std::string out;
@@ -97,12 +86,7 @@ std::string printable(const std::string& s) {
 }
 
 int command_validate(const std::string& path, const std::vector<std::string>& sets, bool print_resolved, bool preview) {
-  std::vector<SceneOverride> overrides = parse_overrides(sets);
-  Scene scene = load_scene(path, overrides);
-  if (preview) {
-    for (SceneOverride& o : preview_overrides(scene)) overrides.push_back(std::move(o));
-    scene = load_scene(path, overrides);
-  }
+  Scene scene = load_scene(path, parse_overrides(sets), preview);
   for (const auto& w : scene.warnings) fmt::print(stderr, "bakesim: warning: {}\n", printable(w));
   auto solver = make_solver(scene);
   if (print_resolved) {
@@ -154,29 +138,16 @@ int command_run(const RunArgs& a) {
       throw InputError(checkpoint_file.string(),
                        "checkpoint of a different scene than " + (dir / "scene.json").string());
   } else {
-    std::vector<SceneOverride> overrides = parse_overrides(a.sets);
-    scene = load_scene(a.scene, overrides);
-    if (a.preview) {
-      for (SceneOverride& o : preview_overrides(scene)) overrides.push_back(std::move(o));
-      scene = load_scene(a.scene, overrides);
-    }
+    scene = load_scene(a.scene, parse_overrides(a.sets), a.preview);
     scene_dir = fs::absolute(fs::path(a.scene)).parent_path().string();
   }
-  if (a.end_time > 0) {
-    // The limits scene files obey (schema: time.end <= 1e6 s, at most a million frames).
-    if (!(a.end_time <= 1e6)) throw InputError("--end-time", fmt::format("must be <= 1e6 s, got {:g}", a.end_time));
-    if (a.end_time * scene.fps > 1e6)
-      throw InputError("--end-time",
-                       fmt::format("{:g} s at {:g} fps is more than a million frames", a.end_time, scene.fps));
-    scene.end_time = a.end_time;
-    scene.resolved["time"]["end"] = a.end_time;
-  }
+  if (a.end_time > 0) set_end_time(scene, a.end_time);
   const int hw = static_cast<int>(tbb::info::default_concurrency());
   const int threads = a.threads > 0 ? a.threads : hw;
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
 
   const fs::path out = !a.resume.empty() ? fs::path(a.resume)
-                       : a.out.empty()   ? fs::path("out") / output_name(scene.name)
+                       : a.out.empty()   ? fs::path("out") / output_component(scene.name)
                                          : fs::path(a.out);
   RunLog log(!a.quiet);
   auto& L = log.logger();

@@ -43,13 +43,6 @@ struct Job {
   Stopwatch clock;
 };
 
-// The scene's name as one path component (as `run` names out/NAME).
-std::string safe_component(const std::string& name) {
-  std::string out;
-  for (const unsigned char ch : name) out += std::isalnum(ch) || ch == '-' || ch == '_' ? char(ch) : '_';
-  return out.empty() ? "scene" : out.substr(0, 100);
-}
-
 // Starts `argv` with stdout and stderr into `log`, in a process group of its
 // own (a Ctrl-C reaches the sweep, which passes it on once: a second SIGINT
 // would end a run without its checkpoint) that dies with the sweep.
@@ -113,24 +106,14 @@ int command_sweep(const SweepArgs& a, const std::string& self) {
     std::vector<SceneOverride> overrides;
     for (const auto& s : p.sets) overrides.push_back(parse_override(s));
     try {
-      scenes.push_back(load_scene(a.scene, overrides));
-      if (a.preview) {
-        for (SceneOverride& o : preview_overrides(scenes.back())) overrides.push_back(std::move(o));
-        scenes.back() = load_scene(a.scene, overrides);
-      }
+      scenes.push_back(load_scene(a.scene, std::move(overrides), a.preview));
     } catch (const InputError& e) {
       throw InputError(e.where(), e.detail() + " (in the sweep's run " + p.label + ")");
     }
-    if (a.end_time > 0) {
-      if (!(a.end_time <= 1e6) || a.end_time * scenes.back().fps > 1e6)
-        throw InputError("--end-time",
-                         fmt::format("{:g} s is too long (at most 1e6 s and a million frames)", a.end_time));
-      scenes.back().end_time = a.end_time;
-      scenes.back().resolved["time"]["end"] = a.end_time;
-    }
+    if (a.end_time > 0) set_end_time(scenes.back(), a.end_time);
   }
   const fs::path dir =
-      a.out.empty() ? fs::path("out") / (safe_component(scenes.front().name) + "-sweep") : fs::path(a.out);
+      a.out.empty() ? fs::path("out") / (output_component(scenes.front().name) + "-sweep") : fs::path(a.out);
 
   // The sweep directory: new, empty, or an earlier sweep's (its marker).
   std::error_code ec;

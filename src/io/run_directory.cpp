@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <chrono>
 #include <cstring>
@@ -213,6 +214,15 @@ RunDirectoryLock RunDirectoryLock::take(const fs::path& dir, const char* file_na
     throw IoError(file.string() + ": cannot write: " + std::strerror(err));
   }
   return RunDirectoryLock(fd);
+}
+
+std::string output_component(const std::string& name) {
+  std::string out;
+  for (const unsigned char ch : name) out += std::isalnum(ch) || ch == '-' || ch == '_' || ch == '.' ? char(ch) : '_';
+  const std::size_t first = out.find_first_not_of('.');
+  out = first == std::string::npos ? "" : out.substr(first);
+  if (out.size() > 100) out.resize(100);
+  return out.empty() ? "scene" : out;
 }
 
 std::string run_scene_name(const fs::path& dir) {

@@ -67,6 +67,11 @@ RunDirectoryLock claim_existing_run(const std::filesystem::path& dir);
 // directory and its own subdirectories (never from a user's folders in it).
 int remove_run_temporaries(const std::filesystem::path& dir);
 
+// A scene's name as one safe path component, for the default out/NAME (a name
+// with "/" or ".." must not reach another directory): letters, digits, - _ .
+// kept, the rest _, no leading dots, at most 100 characters, "scene" when empty.
+std::string output_component(const std::string& name);
+
 // The scene name recorded in DIR's marker ("" when there is no marker).
 std::string run_scene_name(const std::filesystem::path& dir);
 

@@ -513,6 +513,22 @@ std::vector<SceneOverride> preview_overrides(const Scene& scene) {
   return out;
 }
 
+Scene load_scene(const std::string& path, std::vector<SceneOverride> overrides, bool preview) {
+  Scene scene = load_scene(path, overrides);
+  if (!preview) return scene;
+  for (SceneOverride& o : preview_overrides(scene)) overrides.push_back(std::move(o));
+  return load_scene(path, overrides);
+}
+
+void set_end_time(Scene& scene, double end_time) {
+  if (!(end_time <= 1e6)) throw InputError("--end-time", fmt::format("must be <= 1e6 s, got {:g}", end_time));
+  if (end_time * scene.fps > 1e6)
+    throw InputError("--end-time",
+                     fmt::format("{:g} s at {:g} fps is more than a million frames", end_time, scene.fps));
+  scene.end_time = end_time;
+  scene.resolved["time"]["end"] = end_time;
+}
+
 std::unique_ptr<Solver> make_solver(const Scene& scene) {
   std::unique_ptr<Solver> solver;
   if (scene.solver_type == "mpm")

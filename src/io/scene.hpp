@@ -86,6 +86,11 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::s
 inline constexpr double kPreviewCoarsening = 2.0;
 inline constexpr int kPreviewFrames = 10;
 std::vector<SceneOverride> preview_overrides(const Scene& scene);
+// load_scene, and with `preview` once more with preview_overrides after `overrides` (run, validate, sweep).
+Scene load_scene(const std::string& path, std::vector<SceneOverride> overrides, bool preview);
+// --end-time: `end_time` instead of time.end, within the limits scene files obey (at most 1e6 s and a
+// million frames); recorded in the resolved scene. InputError("--end-time", ...) otherwise.
+void set_end_time(Scene& scene, double end_time);
 
 std::unique_ptr<Solver> make_solver(const Scene& scene);
 
