@@ -76,10 +76,12 @@ void rect(Image& img, int x0, int y0, int x1, int y1, Rgb c) {
     for (int x = x0; x <= x1; ++x) img.set(x, y, c);
 }
 
-const Rgb kColours[] = {{31, 119, 180}, {214, 39, 40},   {44, 160, 44},   {255, 127, 14}, {148, 103, 189},
-                        {140, 86, 75},  {227, 119, 194}, {127, 127, 127}, {188, 189, 34}, {23, 190, 207}};
+constexpr Rgb kColours[] = {{31, 119, 180}, {214, 39, 40},   {44, 160, 44},   {255, 127, 14}, {148, 103, 189},
+                            {140, 86, 75},  {227, 119, 194}, {127, 127, 127}, {188, 189, 34}, {23, 190, 207}};
 
 }  // namespace
+
+std::array<std::uint8_t, 3> series_colour(std::size_t k) { return kColours[k % std::size(kColours)]; }
 
 Image plot_lines(const PlotSpec& spec, const TextRenderer& text) {
   Image img(spec.width, spec.height);
@@ -117,7 +119,7 @@ Image plot_lines(const PlotSpec& spec, const TextRenderer& text) {
   rect(img, left, top, left, bottom, black);
   for (std::size_t k = 0; k < spec.series.size(); ++k) {
     const Series& s = spec.series[k];
-    const Rgb c = kColours[k % std::size(kColours)];
+    const Rgb c = series_colour(k);
     double dash = 0;  // length drawn so far along a dashed line: 9 px on, 7 px off
     for (std::size_t i = 1; i < s.x.size() && i < s.y.size(); ++i) {
       if (!std::isfinite(s.x[i - 1] + s.y[i - 1] + s.x[i] + s.y[i])) continue;
@@ -142,7 +144,7 @@ Image plot_lines(const PlotSpec& spec, const TextRenderer& text) {
   // Legend, top-left inside the axes.
   int ly = top + 18;
   for (std::size_t k = 0; k < spec.series.size(); ++k) {
-    const Rgb c = kColours[k % std::size(kColours)];
+    const Rgb c = series_colour(k);
     if (spec.series[k].dashed)
       for (int d = 0; d < 3; ++d) segment(img, left + 14 + 10 * d, ly - 5, left + 20 + 10 * d, ly - 5, 3, c);
     else

@@ -26,6 +26,8 @@ struct PlotSpec {
 };
 
 Image plot_lines(const PlotSpec& spec, const TextRenderer& text);
+// The colour of the k-th series (the PNG plots, the report's SVG plots): a ten-colour palette, repeating.
+std::array<std::uint8_t, 3> series_colour(std::size_t k);
 
 // "Nice" tick values covering [lo, hi] (1, 2 or 5 times a power of ten apart).
 std::vector<double> nice_ticks(double lo, double hi, int target_count = 6);

@@ -69,6 +69,7 @@ struct MeasuredColumn {
   Quantity quantity = Quantity::other;
   std::vector<double> values;  // in the plot's unit: °C, cm of rise, % of the water lost
   std::vector<double> spread;  // error bars (same unit), empty when none
+  double spread_scale = 1;     // from the file's unit to the plot's, for the error bars
 };
 
 struct Measured {
@@ -77,8 +78,6 @@ struct Measured {
   std::vector<MeasuredColumn> columns;
   std::string compare_with;  // a stats.csv column, or ""
 };
-
-bool ends_with(const std::string& s, const std::string& p) { return s.size() >= p.size() && s.ends_with(p); }
 
 Measured read_measured(const std::string& spec) {
   const std::size_t eq = spec.rfind('=');
@@ -129,35 +128,26 @@ Measured read_measured(const std::string& spec) {
     const std::string& n = header[k];
     std::vector<double> values;
     for (const auto& r : rows) values.push_back(r[k]);
-    const bool is_spread = n.find("_std") != std::string::npos;
-    if (is_spread) {
-      if (!m.columns.empty() && m.columns.back().spread.empty()) {
-        m.columns.back().spread = values;
-        if (m.columns.back().quantity == Quantity::moisture_loss) {
-          // dry-basis spread → % of the first value
-          const double x0 = m.columns.back().values.empty() ? kNaN : m.columns.back().values.front();
-          (void)x0;
-          m.columns.back().spread.clear();
-        }
-      }
+    if (n.find("_std") != std::string::npos) {  // error bars of the column before it, in its plot unit
+      if (!m.columns.empty() && m.columns.back().spread.empty())
+        for (const double v : values) m.columns.back().spread.push_back(v * m.columns.back().spread_scale);
       continue;
     }
     MeasuredColumn c{n, Quantity::other, values, {}};
-    if (ends_with(n, "_C")) {
+    if (n.ends_with("_C")) {
       c.quantity = Quantity::temperature;
-    } else if (ends_with(n, "_m")) {
+    } else if (n.ends_with("_m")) {
       c.quantity = Quantity::rise;
-      for (double& v : c.values) v *= 100;  // cm
+      c.spread_scale = 100;  // cm
+      for (double& v : c.values) v *= c.spread_scale;
     } else if (n.find("moisture_db") != std::string::npos) {
-      c.quantity = Quantity::moisture_loss;
+      c.quantity = Quantity::moisture_loss;  // % of the first row's water lost
       const double x0 = c.values.front();
+      c.spread_scale = x0 > 0 ? 100 / x0 : kNaN;
       for (double& v : c.values) v = x0 > 0 ? 100 * (1 - v / x0) : kNaN;
     }
     m.columns.push_back(std::move(c));
   }
-  for (auto& c : m.columns)
-    if (c.quantity == Quantity::rise)
-      for (double& v : c.spread) v *= 100;
   if (m.columns.empty()) throw InputError(where, "has no value column beside its time column");
   return m;
 }
@@ -173,14 +163,11 @@ double interpolate(const std::vector<double>& x, const std::vector<double>& y, d
 
 // ---- SVG plots ----------------------------------------------------------------
 
-const char* kColours[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd",
-                          "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf"};
-
 struct SvgSeries {
   std::string name;
   std::vector<double> x = {}, y = {}, spread = {};
   bool dashed = false, markers = false;
-  std::string colour = {};  // "" picks the next of kColours
+  std::string colour = {};  // "" picks the next of the plots' palette (series_colour)
 };
 
 struct SvgPlot {
@@ -233,7 +220,10 @@ std::string svg_plot(const SvgPlot& p) {
   std::size_t colour_index = 0;
   int legend_y = top + 14;
   for (const auto& series : p.series) {
-    const std::string colour = series.colour.empty() ? kColours[colour_index++ % std::size(kColours)] : series.colour;
+    const auto rgb = series_colour(colour_index);
+    const std::string colour =
+        series.colour.empty() ? fmt::format("#{:02x}{:02x}{:02x}", rgb[0], rgb[1], rgb[2]) : series.colour;
+    if (series.colour.empty()) ++colour_index;
     std::string g = fmt::format("<g class=\"series\" data-name=\"{}\">", escape(series.name));
     if (series.markers) {
       for (std::size_t i = 0; i < series.x.size() && i < series.y.size(); ++i) {
