@@ -653,10 +653,8 @@ int main(int argc, char** argv) {
       } else {
         for (const auto& name : material_preset_names()) {
           const auto p = material_preset(name, "materials");
-          std::vector<std::string> solvers;
-          for (const char* s : {"mpm", "sph"})
-            if (p.contains(s)) solvers.push_back(s);
-          fmt::print("{:18} {:9} {}\n", name, fmt::format("{}", fmt::join(solvers, ",")), p.value("description", ""));
+          fmt::print("{:18} {:9} {}\n", name, fmt::format("{}", fmt::join(preset_solvers(p), ",")),
+                     p.value("description", ""));
         }
       }
       return kExitOk;

@@ -34,6 +34,12 @@ FoodComposition composition_of(const json& c) {
   return f;
 }
 
+// A preset's thermal properties from its composition at 20 °C, rounded as the resolved scene shows them.
+ThermalProperties preset_thermal(const FoodComposition& food) {
+  const ThermalProperties t = food_properties(food, 20.0);
+  return {significant(t.density), significant(t.specific_heat), significant(t.conductivity, 3)};
+}
+
 // Divides a number or a piecewise-linear curve's values by `clock`.
 void divide_by_clock(json& value, double clock, const std::string& where) {
   if (value.is_number()) {
@@ -72,6 +78,13 @@ std::vector<std::string> material_preset_names() {
   return names;
 }
 
+std::vector<std::string> preset_solvers(const json& preset) {
+  std::vector<std::string> solvers;
+  for (const char* s : {"mpm", "sph"})
+    if (preset.contains(s)) solvers.push_back(s);
+  return solvers;
+}
+
 json material_preset(const std::string& name, const std::string& where) {
   for (std::size_t i = 0; i < kMaterialPresetCount; ++i)
     if (name == kMaterialPresetFiles[i].first) return json::parse(kMaterialPresetFiles[i].second);
@@ -106,10 +119,10 @@ json expand_material_preset(const json& material, const std::string& solver, dou
   std::optional<FoodComposition> food;
   if (preset.contains("composition")) {
     food = composition_of(preset["composition"]);
-    const ThermalProperties t = food_properties(*food, 20.0);
-    if (!out.contains("density")) out["density"] = significant(t.density);
-    if (!out.contains("specific_heat")) out["specific_heat"] = significant(t.specific_heat);
-    if (!out.contains("conductivity")) out["conductivity"] = significant(t.conductivity, 3);
+    const ThermalProperties t = preset_thermal(*food);
+    if (!out.contains("density")) out["density"] = t.density;
+    if (!out.contains("specific_heat")) out["specific_heat"] = t.specific_heat;
+    if (!out.contains("conductivity")) out["conductivity"] = t.conductivity;
   }
   out.merge_patch(user);
   // The water the composition holds, as the MPM mixture carries it: mass = saturation ρ_w V.
@@ -164,16 +177,14 @@ std::string materials_markdown() {
       "|\n|---|---|---|---|---|---|---|---|\n";
   for (const auto& name : material_preset_names()) {
     const json p = material_preset(name, "materials");
-    std::vector<std::string> solvers;
-    for (const char* s : {"mpm", "sph"})
-      if (p.contains(s)) solvers.push_back(s);
+    const std::vector<std::string> solvers = preset_solvers(p);
     const json common = p.value("common", json::object());
     double rho = common.value("density", NAN), c = common.value("specific_heat", NAN),
            k = common.value("conductivity", NAN), water = NAN, porosity = NAN;
     if (p.contains("composition")) {
       const FoodComposition f = composition_of(p["composition"]);
-      const ThermalProperties t = food_properties(f, 20.0);
-      rho = significant(t.density), c = significant(t.specific_heat), k = significant(t.conductivity, 3);
+      const ThermalProperties t = preset_thermal(f);
+      rho = t.density, c = t.specific_heat, k = t.conductivity;
       water = 100 * f[FoodComponent::water], porosity = f.porosity;
     }
     auto num = [](double v, const char* f) {

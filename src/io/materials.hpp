@@ -23,6 +23,9 @@ std::vector<std::string> material_preset_names();
 // The preset file, parsed; InputError(where, ...) naming the presets when there is none of that name.
 nlohmann::json material_preset(const std::string& name, const std::string& where);
 
+// The solvers a preset has mechanics for ("mpm", "sph").
+std::vector<std::string> preset_solvers(const nlohmann::json& preset);
+
 // materials.NAME as `solver` reads it: the preset's values with the
 // material's own laid over them, the physical times divided by the bake clock.
 // `path` is "FILE: materials.NAME" for messages; `note` says what was done (for the log).
