@@ -357,8 +357,7 @@ ReportResult write_report_of(const fs::path& run_dir, const ReportOptions& o) {
   std::vector<Measured> measured;
   for (const auto& spec : o.compare) measured.push_back(read_measured(spec));
   const Table& t = r.stats;
-  std::vector<double> minutes = t.column("bake_time") ? *t.column("bake_time") : *t.column("time");
-  for (double& v : minutes) v /= 60.0;
+  const std::vector<double>& minutes = r.minutes;
 
   // Pictures of the first and the last frame: drawn now when render/ has none of them.
   std::map<int, fs::path> frames;

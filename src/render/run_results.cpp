@@ -32,7 +32,8 @@ RunResults read_run_results(const fs::path& run_dir) {
   r.time_end = time->back();
   std::vector<double> bake = *time;
   if (const auto* b = t.column("bake_time")) bake = *b;
-  r.bake_minutes = bake.back() / 60.0;
+  for (const double s : bake) r.minutes.push_back(s / 60.0);
+  r.bake_minutes = r.minutes.back();
   if (const auto* air = t.column("air_temperature")) r.air_end = air->back();
   if (const auto* heat = t.column("heat_in")) r.heat_in_kilojoules = heat->back() / 1000.0;
   if (const auto* wall = t.column("wall_time")) r.wall_seconds = wall->back();

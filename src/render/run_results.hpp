@@ -34,7 +34,8 @@ struct RunResults {
   double heat_in_kilojoules = NAN;  // heat in through the surfaces (stats.csv heat_in), kJ
   double wall_seconds = NAN;
   std::vector<BodyResults> bodies;
-  Table stats;  // stats.csv as read
+  std::vector<double> minutes;  // per stats.csv row: minutes of bake (simulated minutes without a bake clock)
+  Table stats;                  // stats.csv as read
 };
 
 // InputError when there is no readable stats.csv.

@@ -142,11 +142,7 @@ SweepOutputs write_sweep_outputs(const fs::path& dir, const std::vector<SweepAxi
     for (const auto& r : runs) {
       if (!r.results) continue;
       const Table& t = r.results->stats;
-      const auto* bake = t.column("bake_time");
-      if (!bake) bake = t.column("time");
-      if (!bake) continue;
-      std::vector<double> x = *bake;
-      for (double& v : x) v /= 60.0;
+      const std::vector<double>& x = r.results->minutes;
       for (const auto& b : bodies) {
         const auto* col = t.column(k.prefix + b);
         if (!col || col->empty()) continue;
