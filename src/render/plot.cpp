@@ -249,9 +249,7 @@ std::vector<fs::path> plot_run(const fs::path& run_dir) {
     // The doneness line of the report and the sweep (render/run_results.hpp), where the run has a core.
     bool has_core = false;
     for (const auto& n : t.names) has_core = has_core || starts(n, "core_temperature:");
-    if (has_core && !x.empty())
-      temps.series.push_back(
-          {fmt::format("done ({:g} °C)", kDoneCoreDegC), {x.front(), x.back()}, {kDoneCoreDegC, kDoneCoreDegC}, true});
+    if (has_core && !x.empty()) temps.series.push_back(doneness_series(x.front(), x.back()));
   } else if (const auto* mean = t.column("mean_temperature")) {
     temps.series.push_back({"mean", x, *mean});
     if (const auto* mx = t.column("max_temperature")) temps.series.push_back({"max", x, *mx});

@@ -506,13 +506,8 @@ ReportResult write_report_of(const fs::path& run_dir, const ReportOptions& o) {
   }
   if (!temps.series.empty()) {
     if (const auto* air = t.column("air_temperature")) temps.series.push_back({"oven air", minutes, *air, {}, true});
-    temps.series.push_back({fmt::format("done ({:g} °C)", kDoneCoreDegC),
-                            {minutes.front(), minutes.back()},
-                            {kDoneCoreDegC, kDoneCoreDegC},
-                            {},
-                            true,
-                            false,
-                            "#555555"});
+    const Series done = doneness_series(minutes.front(), minutes.back());
+    temps.series.push_back({done.name, done.x, done.y, {}, true, false, "#555555"});
   }
   for (const Measured& m : measured)
     for (const MeasuredColumn& c : m.columns) {

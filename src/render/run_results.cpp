@@ -1,5 +1,7 @@
 #include "render/run_results.hpp"
 
+#include <fmt/format.h>
+
 #include <nlohmann/json.hpp>
 
 #include <cmath>
@@ -19,6 +21,10 @@ double first_crossing(const std::vector<double>& t, const std::vector<double>& v
     return t[i - 1] + f * (t[i] - t[i - 1]);
   }
   return NAN;
+}
+
+Series doneness_series(double from, double to) {
+  return {fmt::format("done ({:g} °C)", kDoneCoreDegC), {from, to}, {kDoneCoreDegC, kDoneCoreDegC}, true};
 }
 
 RunResults read_run_results(const fs::path& run_dir) {

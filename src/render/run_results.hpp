@@ -14,6 +14,9 @@ namespace bakesim::render {
 // is safe at 93-96 °C; the report draws it as the doneness line).
 inline constexpr double kDoneCoreDegC = 95.0;
 
+// The doneness line of the plots: kDoneCoreDegC from `from` to `to` (bake minutes), dashed.
+Series doneness_series(double from, double to);
+
 struct BodyResults {
   std::string name;
   bool heated = false;                                       // the run has core and crust columns for it

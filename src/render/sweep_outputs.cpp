@@ -158,8 +158,7 @@ SweepOutputs write_sweep_outputs(const fs::path& dir, const std::vector<SweepAxi
       double end = 0;
       for (const auto& s : spec.series)
         if (!s.x.empty()) end = std::max(end, s.x.back());
-      spec.series.push_back(
-          {fmt::format("done ({:g} °C)", kDoneCoreDegC), {0, end}, {kDoneCoreDegC, kDoneCoreDegC}, true});
+      spec.series.push_back(doneness_series(0, end));
     }
     ensure_directory(plots);
     write_file_atomic(plots / k.file, encode_png(plot_lines(spec, text)));
