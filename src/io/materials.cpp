@@ -171,7 +171,10 @@ std::string materials_markdown() {
       "and the scene's own values for those keys alike. The resolved scene holds the divided values and "
       "`\"preset\": \"none\"`, so it re-runs as it is.\n\n"
       "The mechanical values come from bakesim's calibrated scenes (each source says which, and where a "
-      "measured value differs); compositions from USDA FoodData Central (SR Legacy) by the recipe given.\n\n";
+      "measured value differs); compositions from USDA FoodData Central (SR Legacy) by the recipe given. The "
+      "literature ranges a source quotes (wheat-dough viscosity, molten chocolate, apple porosity) and the "
+      "USDA values were written from the cited works without re-checking them against the texts here; check "
+      "them before relying on one.\n\n";
   md +=
       "| preset | solvers | density kg/m³ | c_p J/(kg K) | k W/(m K) | water % | porosity | set °C "
       "|\n|---|---|---|---|---|---|---|---|\n";
