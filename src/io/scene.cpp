@@ -502,7 +502,7 @@ std::vector<SceneOverride> preview_overrides(const Scene& scene) {
     double factor = kPreviewCoarsening;
     for (const json& c : scene.resolved["colliders"])
       if (c["shape"].contains("wall_thickness"))
-        factor = std::min(factor, c["shape"]["wall_thickness"].get<double>() / (2 * cell));
+        factor = std::min(factor, c["shape"]["wall_thickness"].get<double>() / (kMinWallCells * cell));
     if (factor > 1) out.push_back(set("solver.mpm.cell_size", cell * factor));
   } else {
     out.push_back(set("solver.sph.spacing", solver["sph"]["spacing"].get<double>() * kPreviewCoarsening));

@@ -72,11 +72,12 @@ Collider build_grid_collider(const Ctx& c, const json& cj, std::size_t i, Real c
   // A cup or container wall under two cells thick has grid nodes inside it
   // that are nearer its far face: their contact normal points the wrong way
   // and material sinks into the wall (the muffin cups did).
-  if (cj["shape"].contains("wall_thickness") && cj["shape"]["wall_thickness"].get<double>() < 2 * cell - 1e-12)
+  if (cj["shape"].contains("wall_thickness") &&
+      cj["shape"]["wall_thickness"].get<double>() < kMinWallCells * cell - 1e-12)
     c.fail(path + ".shape.wall_thickness",
            fmt::format("{} m is thinner than two MPM cells ({} m): material would sink into the wall; make it at "
                        "least {} m",
-                       cj["shape"]["wall_thickness"].get<double>(), cell, 2 * cell));
+                       cj["shape"]["wall_thickness"].get<double>(), cell, kMinWallCells * cell));
   // Meshes act through a signed distance grid at half the MPM cell size.
   if (const auto* mesh = std::get_if<MeshCollider>(&col.geometry))
     col.geometry = mesh->with_signed_distance(0.5 * cell, 3 * cell);

@@ -47,6 +47,9 @@ Oven build_oven(const Ctx& c, const json& environment);
 // friction_model "auto" resolves to the solver's own (SPH velocity share, MPM Coulomb).
 FrictionModel friction_model(const json& j, FrictionModel solver_default);
 // The collider at colliders[i]: name, geometry, contact law, motion, temperature.
+// MPM container and cup walls are at least this many cells thick (thinner ones let material sink in).
+inline constexpr double kMinWallCells = 2;
+
 // "temperature": "oven" gives the collider the oven air's schedule (a tray or tin preheated with the oven).
 Collider build_collider(const Ctx& c, const json& cj, std::size_t i, Real cell, FrictionModel solver_default,
                         const Oven& oven);
