@@ -154,6 +154,7 @@ int command_run(const RunArgs& a) {
   L.info("bakesim {} run of {} ({} threads of {})", BAKESIM_VERSION, a.resume.empty() ? a.scene : a.resume, threads,
          hw);
   for (const auto& base : scene.extends) L.info("extends {}", base);
+  for (const auto& note : scene.notes) L.info("{}", note);
   for (const auto& s : a.sets) L.info("--set {}", s);
   if (a.preview)
     L.info("preview: {} {:g} m, {:g} fps, into {}", scene.solver_type == "mpm" ? "cell size" : "spacing",

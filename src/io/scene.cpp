@@ -549,6 +549,7 @@ std::string describe(const Scene& scene, Solver& solver) {
   out += fmt::format("scene      {} ({})\n", scene.name, scene.file);
   if (!scene.description.empty()) out += fmt::format("           {}\n", scene.description);
   for (const auto& base : scene.extends) out += fmt::format("extends    {}\n", base);
+  for (const auto& note : scene.notes) out += fmt::format("material   {}\n", note);
   out += fmt::format("solver     {}\n", scene.solver_type);
   const int frames = static_cast<int>(std::ceil(scene.end_time * scene.fps - 1e-9));
   out += fmt::format("time       {} s at {} fps: {} frames\n", scene.end_time, scene.fps, frames);

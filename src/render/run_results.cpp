@@ -57,7 +57,6 @@ RunResults read_run_results(const fs::path& run_dir) {
     if (const auto* h = t.column("height:" + b.name)) b.height_start = h->front(), b.height_end = h->back();
     if (const auto* core = t.column("core_temperature:" + b.name)) {
       b.heated = true;
-      b.core_start = core->front();
       b.core_end = core->back();
       b.minutes_to_done = first_crossing(bake, *core, kDoneCoreDegC) / 60.0;
     }

@@ -19,8 +19,8 @@ Series doneness_series(double from, double to);
 
 struct BodyResults {
   std::string name;
-  bool heated = false;                                       // the run has core and crust columns for it
-  double core_start = NAN, core_end = NAN, crust_end = NAN;  // °C
+  bool heated = false;                          // the run has core and crust columns for it
+  double core_end = NAN, crust_end = NAN;       // °C
   double minutes_to_done = NAN;                 // bake minutes for the core to reach kDoneCoreDegC; NaN: never
   double volume_ratio = NAN;                    // last frame / first frame
   double height_start = NAN, height_end = NAN;  // m
