@@ -17,13 +17,9 @@
 using namespace bakesim;
 
 TEST(BreadRoll, RisesStaysInItsTinAndBakesThrough) {
-  const std::string dir = std::string(BAKESIM_SOURCE_DIR) + "/scenes";
-  std::ifstream in(dir + "/bread-roll.json");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  auto doc = nlohmann::json::parse(ss.str());
-  doc["solver"]["sph"]["spacing"] = 0.003;  // ~2,900 particles instead of ~20,000
-  Scene scene = parse_scene(doc.dump(), "bread-roll.json", dir);
+  // ~2,900 particles instead of ~20,000.
+  Scene scene = load_scene(std::string(BAKESIM_SOURCE_DIR) + "/scenes/bread-roll.json",
+                           {parse_override("solver.sph.spacing=0.003")});
   sph::SphSolver solver(scene.sph);
 
   const auto& tin = std::get<ContainerCollider>(scene.sph.colliders.at(0).geometry).inner;
@@ -71,13 +67,9 @@ TEST(BreadRoll, RisesStaysInItsTinAndBakesThrough) {
 // stays on the tray and bakes through; its core reaches 95 °C when the MPM
 // cookie's does, within a minute (both take the preset's thermal properties).
 TEST(SphCookie, FromThePresetItSpreadsSetsAndBakesThrough) {
-  const std::string dir = std::string(BAKESIM_SOURCE_DIR) + "/scenes";
-  std::ifstream in(dir + "/cookie-on-a-tray-sph.json");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  auto doc = nlohmann::json::parse(ss.str());
-  doc["solver"]["sph"]["spacing"] = 0.003;  // ~1,000 particles instead of 3,423
-  Scene scene = parse_scene(doc.dump(), "cookie-on-a-tray-sph.json", dir);
+  // ~1,000 particles instead of 3,423.
+  Scene scene = load_scene(std::string(BAKESIM_SOURCE_DIR) + "/scenes/cookie-on-a-tray-sph.json",
+                           {parse_override("solver.sph.spacing=0.003")});
   sph::SphSolver solver(scene.sph);
   auto width = [](const ParticleSet& ps) {
     double lo = 1e9, hi = -1e9;
