@@ -58,10 +58,19 @@ std::optional<double> parse_number(const std::string& s) {
 
 // The unit of a stats.csv column ("" for counts and ratios), for stats.units.csv.
 std::string column_unit(const std::string& column, const ParticleSet& ps) {
-  static const std::vector<std::pair<std::string, std::string>> exact = {
-      {"time", "s"},        {"steps", ""},      {"dt", "s"},        {"particles", ""},     {"kinetic_energy", "J"},
-      {"max_speed", "m/s"}, {"wall_time", "s"}, {"bake_time", "s"}, {"water_total", "kg"}, {"water_evaporated", "kg"},
-      {"heat_in", "J"}};
+  static const std::vector<std::pair<std::string, std::string>> exact = {{"time", "s"},
+                                                                         {"steps", ""},
+                                                                         {"dt", "s"},
+                                                                         {"particles", ""},
+                                                                         {"kinetic_energy", "J"},
+                                                                         {"max_speed", "m/s"},
+                                                                         {"wall_time", "s"},
+                                                                         {"bake_time", "s"},
+                                                                         {"water_total", "kg"},
+                                                                         {"water_evaporated", "kg"},
+                                                                         {"heat_in", "J"},
+                                                                         {"latent_heat_out", "J"},
+                                                                         {"water_boiled", "kg"}};
   for (const auto& [name, unit] : exact)
     if (column == name) return unit;
   if (column.size() == 5 && (column.starts_with("min_") || column.starts_with("max_"))) return "m";
@@ -71,6 +80,7 @@ std::string column_unit(const std::string& column, const ParticleSet& ps) {
                                                                             {"crust_temperature:", "degC"},
                                                                             {"water:", "kg"},
                                                                             {"moisture_loss_percent:", "%"},
+                                                                            {"weight_loss_percent:", "%"},
                                                                             {"co2_mol:", "mol"}};
   for (const auto& [prefix, unit] : prefixed)
     if (column.starts_with(prefix)) return unit;
@@ -224,7 +234,9 @@ std::vector<std::string> RunOutput::bake_summary() const {
                                    k.crust_temperature);
     if (b < first_volume_.size() && b < last_volume_.size() && first_volume_[b] > 0)
       line += fmt::format(", volume x{:.2f}", last_volume_[b] / first_volume_[b]);
-    if (bake_->has_water()) line += fmt::format(", moisture loss {:.1f} %", std::max(0.0, k.moisture_loss_percent));
+    if (bake_->has_water())
+      line += fmt::format(", moisture loss {:.1f} % ({:.1f} % of its weight)", std::max(0.0, k.moisture_loss_percent),
+                          std::max(0.0, k.weight_loss_percent));
     lines.push_back(line);
   }
   return lines;

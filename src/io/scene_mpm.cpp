@@ -36,10 +36,11 @@ mpm::Material build_material(const Ctx& c, const std::string& name, const json& 
     sc.set_softening = pj["set_softening"].get<double>();
     sc.brittle_water_loss = pj["brittle_water_loss"].get<double>();
     if (sc.set_softening > 0 &&
-        (model != "cam_clay" || !mat.set.ever() || !(m["water"]["saturation"].get<double>() > 0)))
+        (model != "cam_clay" || !mat.set.ever() ||
+         !(m["water"]["saturation"].get<double>() > 0 || m["moisture"]["content"].get<double>() > 0)))
       c.fail(mpath + ".plasticity.set_softening",
              "softens the set material as it dries: needs model \"cam_clay\", the material's set_temperature and "
-             "water.saturation > 0");
+             "water (water.saturation > 0 or moisture.content > 0)");
     mat.setting = sc;
   }
   const Real yield0 = yield(20.0), viscosity0 = viscosity(20.0);
@@ -55,6 +56,26 @@ mpm::Material build_material(const Ctx& c, const std::string& name, const json& 
   mat.water.diffusivity = wj["diffusivity"].get<double>();
   mat.water.evaporation_rate = wj["evaporation_rate"].get<double>();
   mat.water.stiffness = wj["stiffness"].get<double>();
+  mat.moisture = build_pore_water(m);
+  if (mat.moisture.active()) {
+    // One water per material: moisture's liquid is carried as the paper's water
+    // (its pressure, its Fick diffusion), its vapour and latent heat come in addition.
+    for (const char* key : {"saturation", "evaporation_rate"})
+      if (wj[key].get<double>() != 0)
+        c.fail(mpath + ".water." + key,
+               "with moisture.content the water comes from the moisture and leaves as vapour: leave water." +
+                   std::string(key) + " out (water.stiffness still applies)");
+    if (wj["diffusivity"].get<double>() != 1e-8)
+      c.fail(mpath + ".water.diffusivity", "with moisture.content the liquid diffuses by moisture.liquid_diffusivity");
+    const PoreWater& pw = mat.moisture;
+    mat.water.saturation = pw.moisture / (1 + pw.moisture) * mat.density / mat.water.water_density;
+    if (mat.water.saturation > 1)
+      c.fail(
+          mpath + ".moisture.content",
+          fmt::format("{} kg/kg at density {} kg/m^3 is more water than the volume holds", pw.moisture, mat.density));
+    mat.water.diffusivity = pw.liquid_diffusivity;
+    mat.water.evaporation_rate = 0;
+  }
   const json& lj = m["leavening"];
   mat.gas.rate = lj["rate"].get<double>();
   mat.gas.peak_temperature = lj["peak_temperature"].get<double>();

@@ -172,7 +172,27 @@ Oven build_oven(const Ctx& c, const json& env) {
   oven.heat_transfer_coefficient = env["heat_transfer_coefficient"].get<double>();
   oven.bake_time_scale = env["bake_time_scale"].get<double>();
   oven.browning = build_browning(env["browning"]);
+  oven.air_vapour_density = env["air_vapour_density"].get<double>();
+  if (!env["mass_transfer_coefficient"].is_null())
+    oven.mass_transfer_coefficient = env["mass_transfer_coefficient"].get<double>();
   return oven;
+}
+
+PoreWater build_pore_water(const json& material) {
+  const json& w = material["moisture"];
+  PoreWater p;
+  p.moisture = w["content"].get<double>();
+  p.gas_fraction = w["gas_fraction"].get<double>();
+  p.vapour_diffusivity = w["vapour_diffusivity"].get<double>();
+  p.tortuosity = w["tortuosity"].get<double>();
+  p.liquid_diffusivity = w["liquid_diffusivity"].get<double>();
+  p.latent_heat = w["latent_heat"].get<double>();
+  p.boiling_point = w["boiling_point"].get<double>();
+  const json& s = w["sorption"];
+  p.sorption.oswin_a_slope = s["oswin_a_slope"].get<double>();
+  p.sorption.oswin_a_offset = s["oswin_a_offset"].get<double>();
+  p.sorption.oswin_exponent = s["oswin_exponent"].get<double>();
+  return p;
 }
 
 FrictionModel friction_model(const json& j, FrictionModel solver_default) {

@@ -53,6 +53,8 @@ inline constexpr double kMinWallCells = 2;
 // "temperature": "oven" gives the collider the oven air's schedule (a tray or tin preheated with the oven).
 Collider build_collider(const Ctx& c, const json& cj, std::size_t i, Real cell, FrictionModel solver_default,
                         const Oven& oven);
+// materials.NAME.moisture (water, vapour and latent heat; physics/water.hpp).
+PoreWater build_pore_water(const json& material);
 // materials.NAME.set_temperature (null: never).
 IrreversibleSetting build_setting(const json& material);
 

@@ -45,6 +45,8 @@ struct HeatSums {
   Real water;          // W = Σ w m_w, kg
   Real volume;         // Σ w V_p, m³
   Real water_rate;     // ΔW = −Σ w evaporation + Σ V q_w · ∇w, kg/s
+  Real vapour;         // Σ w V_p ρ_v,p, kg (moisture: the node's vapour density times its volume)
+  Real vapour_rate;    // ΔW_v = −Σ w m_surface + Σ V q_v · ∇w, kg/s (moves as vapour: carries h_fg)
 };
 
 // What the grid update leaves on a node for G2P and the implicit heat solve.
@@ -56,6 +58,8 @@ struct HeatState {
   Real water_ratio;     // r = Δt ΔW / W (never below −1)
   Real saturation;      // s of the node, for the next water flux
   Real air_area;        // area facing the air per volume, 1/m
+  Real vapour_ratio;    // r_v = Δt ΔW_v / W (r + r_v never below −1)
+  Real vapour_density;  // ρ_v of the node, for the next vapour flux, kg/m³
 };
 
 // Particles grouped by blocks of kBlock³ cells, and the blocks coloured 2×2×2

@@ -14,6 +14,7 @@
 #include "physics/moisture.hpp"
 #include "physics/oven.hpp"
 #include "physics/setting.hpp"
+#include "physics/water.hpp"
 
 namespace bakesim::mpm {
 
@@ -28,7 +29,8 @@ struct Material {
   Real conductivity = 0.4;     // κ, W/(m K)
   Real thermal_expansion = 0;  // c of σ_s = τ/J − c λ (θ − θ_ref) I, 1/K
   Real initial_porosity = 0;   // n₀ of the gas porosity
-  Moisture water;
+  Moisture water;      // the paper's water (saturation, Fick diffusion, water pressure)
+  PoreWater moisture;  // water, vapour and latent heat (physics/water.hpp); its liquid is `water`'s
   Leavening gas;
   std::optional<SettingCurves> setting;  // temperature-dependent τ_y, η (Hencky + plasticity only)
   IrreversibleSetting set;               // when τ_y, η start to follow the peak temperature (gelatinization)

@@ -49,6 +49,11 @@ MpmSolver::MpmSolver(Setup setup)
       heat_vec_(particles_.add_vector("heat_flux_term", "W", false)),
       water_src_(particles_.add_scalar("water_source", "kg/s", false)),
       water_vec_(particles_.add_vector("water_flux_term", "kg/s", false)),
+      moisture_(particles_.add_scalar("moisture", "kg/kg")),
+      vapour_density_(particles_.add_scalar("vapour_density", "kg/m^3")),
+      grad_vapour_(particles_.add_vector("vapour_density_gradient", "kg/m^4", false)),
+      vapour_src_(particles_.add_scalar("vapour_source", "kg/s", false)),
+      vapour_vec_(particles_.add_vector("vapour_flux_term", "kg/s", false)),
       material_(particles_.add_int("material_id")),
       body_(particles_.add_int("body_id")),
       id_(particles_.add_int("id")) {
@@ -89,6 +94,7 @@ MpmSolver::MpmSolver(Setup setup)
     const Real water = s.baseline ? 0 : mat.water.stiffness * mat.water.saturation;
     max_wave_speed_ = std::max(max_wave_speed_, std::sqrt((mat.lame.lambda + 2 * mat.lame.mu + water) / mat.density));
   }
+  for (const Material& mat : setup_.materials) moist_ |= !s.baseline && mat.moisture.active();
   build_particles();
   phase_sort();
 }
@@ -130,6 +136,7 @@ void MpmSolver::build_particles() {
       const bool wet = !s.baseline && mat.water.active();
       water_[k] = wet ? mat.water.saturation * mat.water.water_density * vol : 0;
       saturation_[k] = wet ? mat.water.saturation : 0;
+      moisture_[k] = wet && mat.moisture.active() ? mat.moisture.moisture : 0;
       set_deformation_gradient(k, Mat3::Identity());
       set_affine(k, Mat3::Zero());
       material_[k] = body.material;
@@ -222,6 +229,17 @@ Real MpmSolver::max_stable_dt() {
       if (!s.baseline && mat.water.active() && mat.water.diffusivity > 0)
         limit(dx_ * dx_ / (6 * mat.water.diffusion_coefficient(std::max(acc.tmax, Real(100)))) / scale,
               "water_diffusion");
+      if (!s.baseline && mat.moisture.active()) {
+        // The vapour's coupled heat–water diffusivity, largest at the hottest moist
+        // temperature; over the moistures a particle passes through as it dries.
+        const PoreWater& pw = mat.moisture;
+        const Real theta = std::min(acc.tmax, pw.boiling_point);
+        const Real dry_density = mat.density / (1 + pw.moisture);
+        Real d = 0;
+        for (const Real x : {pw.moisture, 0.5 * pw.moisture, 0.2 * pw.moisture, 0.05 * pw.moisture})
+          d = std::max(d, pw.effective_diffusivity(theta, x, mat.density * mat.specific_heat, dry_density));
+        if (d > 0) limit(dx_ * dx_ / (6 * d) / scale, "vapour_diffusion");
+      }
     }
     if (s.heat == HeatMethod::explicit_ && acc.exchange > 0) limit(0.5 / acc.exchange / scale, "heat_exchange");
   }
@@ -277,6 +295,10 @@ std::vector<std::pair<std::string, Real>> MpmSolver::frame_quantities() const {
   out.emplace_back("water_total", total_water());
   out.emplace_back("water_evaporated", budget_.evaporated);
   out.emplace_back("heat_in", budget_.heat_in);
+  if (moist_) {
+    out.emplace_back("latent_heat_out", budget_.latent_out);
+    out.emplace_back("water_boiled", budget_.boiled);
+  }
   return out;
 }
 
@@ -289,7 +311,9 @@ std::vector<std::pair<std::string, double>> MpmSolver::checkpoint_state() const 
           {"steps", double(steps_)},
           {"evaporated", budget_.evaporated},
           {"clamped", budget_.clamped},
-          {"heat_in", budget_.heat_in}};
+          {"heat_in", budget_.heat_in},
+          {"boiled", budget_.boiled},
+          {"latent_out", budget_.latent_out}};
 }
 
 void MpmSolver::restore_state(const std::vector<std::pair<std::string, double>>& state) {
@@ -304,6 +328,10 @@ void MpmSolver::restore_state(const std::vector<std::pair<std::string, double>>&
       budget_.clamped = value;
     else if (name == "heat_in")
       budget_.heat_in = value;
+    else if (name == "boiled")
+      budget_.boiled = value;
+    else if (name == "latent_out")
+      budget_.latent_out = value;
   }
   // The particles come back in the order they had; the material groups index them.
   group_by_material();

@@ -26,6 +26,8 @@ struct MixtureBudget {
   Real evaporated = 0;  // kg that left through the boundary
   Real clamped = 0;     // kg the evaporation asked for beyond what a node held (not removed)
   Real heat_in = 0;     // J through the boundary (air and hot colliders)
+  Real boiled = 0;      // kg boiled off at the boiling cap (moisture; part of evaporated)
+  Real latent_out = 0;  // J the water took with it as it left (h_fg per kg evaporated and boiled)
 };
 
 class MpmSolver final : public Solver {
@@ -123,6 +125,13 @@ class MpmSolver final : public Solver {
   std::vector<Vec3>& heat_vec_;    //   and −V κ ∇θ · 4/Δx, W
   std::vector<Real>& water_src_;   // P2G water terms: −evaporation, kg/s
   std::vector<Vec3>& water_vec_;   //   and V q_w · 4/Δx, kg/s
+  // Moisture (physics/water.hpp): the dry-basis moisture and the pore vapour
+  // density in equilibrium with it, then the vapour's transfer terms (hidden).
+  std::vector<Real>& moisture_;        // X, kg water / kg dry solid
+  std::vector<Real>& vapour_density_;  // ρ_v, kg/m³ of pore gas
+  std::vector<Vec3>& grad_vapour_;     // ∇ρ_v from the grid, kg/m⁴
+  std::vector<Real>& vapour_src_;      // −h_m (ρ_v − ρ_v,air) S_air, kg/s
+  std::vector<Vec3>& vapour_vec_;      // V q_v · 4/Δx, kg/s
   std::vector<std::int32_t>& material_;
   std::vector<std::int32_t>& body_;
   std::vector<std::int32_t>& id_;
@@ -156,6 +165,8 @@ class MpmSolver final : public Solver {
   std::size_t steps_ = 0;
   std::string dt_bound_ = "max_dt";
   Real max_wave_speed_ = 0;
+  bool moist_ = false;                           // a material carries moisture (physics/water.hpp)
+  std::vector<Real> latent_step_, boiled_step_;  // per particle in one G2P: latent heat given up (J), water boiled (kg)
 };
 
 }  // namespace bakesim::mpm

@@ -14,6 +14,7 @@
 #include "core/types.hpp"
 #include "physics/browning.hpp"
 #include "physics/curves.hpp"
+#include "physics/water.hpp"
 
 namespace bakesim {
 
@@ -22,12 +23,19 @@ struct Oven {
   Real heat_transfer_coefficient = 10.0;                              // β of the air, W/(m² K)
   Real bake_time_scale = 1.0;                                         // bake seconds per simulated second
   BrowningKinetics browning;                                          // crust colour from the temperature history
+  Real air_vapour_density = 0;                                        // ρ_v of the oven air, kg/m³
+  std::optional<Real> mass_transfer_coefficient;                      // h_m, m/s (none: Chilton–Colburn from h)
 
   // Bake time at simulated time t, and the bake-time length of a mechanics step.
   Real bake_time(Real time) const { return time * bake_time_scale; }
   Real bake_step(Real dt) const { return dt * bake_time_scale; }
   // Air temperature (°C) at simulated time t.
   Real air_at(Real time) const { return air_temperature(bake_time(time)); }
+  // h_m (m/s) of vapour leaving a moist surface at simulated time t (physics/water.hpp).
+  Real mass_transfer_at(Real time) const {
+    return mass_transfer_coefficient ? *mass_transfer_coefficient
+                                     : bakesim::mass_transfer_coefficient(heat_transfer_coefficient, air_at(time));
+  }
 };
 
 // The temperature of each collider at one bake time, read once per step from

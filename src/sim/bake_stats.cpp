@@ -20,12 +20,17 @@ BakeStatistics::BakeStatistics(const ParticleSet& initial, std::size_t bodies)
     : bodies_(bodies),
       water_(initial.has("water_mass")),
       co2_(initial.has("co2") && initial.has("initial_volume")),
-      initial_water_(bodies, 0.0) {
+      initial_water_(bodies, 0.0),
+      initial_mass_(bodies, 0.0) {
   if (!water_ || !initial.has("body_id")) return;
   // In particle order, one by one (the reference the moisture loss is measured against).
   const auto& water = initial.scalar("water_mass");
   const auto& body = initial.integer("body_id");
   for (std::size_t i = 0; i < initial.size(); ++i) initial_water_[body[i]] += water[i];
+  if (initial.has("mass")) {
+    const auto& mass = initial.scalar("mass");
+    for (std::size_t i = 0; i < initial.size(); ++i) initial_mass_[body[i]] += mass[i];
+  }
 }
 
 std::vector<std::string> BakeStatistics::columns(const std::string& body) const {
@@ -33,6 +38,7 @@ std::vector<std::string> BakeStatistics::columns(const std::string& body) const 
   if (water_) {
     out.push_back("water:" + body);
     out.push_back("moisture_loss_percent:" + body);
+    out.push_back("weight_loss_percent:" + body);
   }
   if (co2_) out.push_back("co2_mol:" + body);
   return out;
@@ -43,6 +49,7 @@ std::vector<Real> BakeStatistics::values(const BodyBake& b) const {
   if (water_) {
     out.push_back(b.water);
     out.push_back(b.moisture_loss_percent);
+    out.push_back(b.weight_loss_percent);
   }
   if (co2_) out.push_back(b.co2);
   return out;
@@ -93,6 +100,8 @@ std::vector<BodyBake> BakeStatistics::compute(const ParticleSet& ps) const {
     out[b].crust_temperature = acc[b].area > 0 ? acc[b].area_t / acc[b].area : nan;
     out[b].water = acc[b].water;
     out[b].moisture_loss_percent = initial_water_[b] > 0 ? 100.0 * (1 - acc[b].water / initial_water_[b]) : 0.0;
+    out[b].weight_loss_percent =
+        initial_mass_[b] > 0 ? 100.0 * (initial_water_[b] - acc[b].water) / initial_mass_[b] : 0.0;
     out[b].co2 = acc[b].co2;
   }
   return out;

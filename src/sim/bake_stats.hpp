@@ -6,6 +6,8 @@
 //                       exchange area ("air_area" MPM, "surface_area" SPH), °C
 //   water               Σ water_mass, kg                       (where particles carry water)
 //   moisture_loss_percent  the share of the body's initial water gone, %
+//   weight_loss_percent    the water gone as a share of the body's initial mass, %
+//                          (the bake loss a food engineer weighs)
 //   co2_mol             Σ co2 · initial_volume, mol             (where particles carry CO2)
 // Reductions are deterministic: the same state gives the same numbers on any
 // thread count.
@@ -17,7 +19,8 @@
 namespace bakesim {
 
 struct BodyBake {
-  Real core_temperature = 0, crust_temperature = 0, water = 0, moisture_loss_percent = 0, co2 = 0;
+  Real core_temperature = 0, crust_temperature = 0, water = 0, moisture_loss_percent = 0, weight_loss_percent = 0,
+       co2 = 0;
 };
 
 class BakeStatistics {
@@ -36,7 +39,7 @@ class BakeStatistics {
  private:
   std::size_t bodies_;
   bool water_ = false, co2_ = false;
-  std::vector<Real> initial_water_;
+  std::vector<Real> initial_water_, initial_mass_;
 };
 
 }  // namespace bakesim

@@ -13,6 +13,7 @@
 #include "physics/curves.hpp"
 #include "physics/oven.hpp"
 #include "physics/setting.hpp"
+#include "physics/water.hpp"
 #include "sph/neighbours.hpp"
 #include "sph/surface_detection.hpp"
 
@@ -33,6 +34,7 @@ struct Material {
   // Once set, the curves read the highest temperature reached instead of the
   // current one: baked dough stays set when it cools.
   IrreversibleSetting set;  // when the curves start to follow the peak temperature (physics/setting.hpp)
+  PoreWater moisture;       // water, vapour and latent heat (physics/water.hpp); off unless moisture.moisture > 0
 };
 
 enum class BubbleDistribution { uniform, centred, layered, region };

@@ -142,6 +142,13 @@ SphSolver::SphSolver(Setup setup)
   t_xsph_ = timers_.add("xsph");
   t_viscosity_ = timers_.add("viscosity");
   t_heat_ = timers_.add("heat");
+  for (const Material& m : setup_.materials) moist_ |= m.moisture.active();
+  if (moist_) {
+    t_water_ = timers_.add("water");
+    water_ = &particles_.add_scalar("water_mass", "kg");
+    moisture_ = &particles_.add_scalar("moisture", "kg/kg");
+    vapour_density_ = &particles_.add_scalar("vapour_density", "kg/m^3");
+  }
   t_browning_ = timers_.add("browning");
   t_properties_ = timers_.add("properties");
   t_smoothing_ = timers_.add("smoothing");
@@ -207,6 +214,12 @@ void SphSolver::seed_particles() {
   x_prev_.resize(total);
   dv_.resize(total);
   dtemp_.resize(total);
+  if (moist_) {
+    water_coefficients_.resize(total);
+    water_change_.resize(total);
+    step_book_.resize(total);
+  }
+  air_facing_.assign(total, 0);
   std::size_t k = 0;
   for (std::size_t bi = 0; bi < setup_.bodies.size(); ++bi) {
     const Body& b = setup_.bodies[bi];
@@ -228,6 +241,12 @@ void SphSolver::seed_particles() {
       set_density_[k] = mat.rest_density;
       set_temperature_[k] = b.temperature;
       peak_temperature_[k] = b.temperature;
+      if (moist_) {
+        // The particle is dry solid and water: m_w = m X₀ / (1 + X₀).
+        const Real x0 = mat.moisture.moisture;
+        (*water_)[k] = m_[k] * x0 / (1 + x0);
+        (*moisture_)[k] = x0;
+      }
       smoothing_[k] = h_;
       material_[k] = b.material;
       body_[k] = static_cast<std::int32_t>(bi);
@@ -356,6 +375,28 @@ std::vector<std::pair<std::string, Real>> SphSolver::time_step_bounds() const {
     alpha = setup_.oven.bake_step(alpha);  // heat runs on the bake clock
     if (alpha > 0) bounds.emplace_back("conduction", s.conduction_factor * hs * hs / alpha);
   }
+  if (moist_) {
+    // The vapour's coupled heat–water diffusivity at the hottest moist temperature
+    // (physics/water.hpp), over the moistures a particle passes as it dries.
+    const Real tmax = deterministic_reduce(
+        x_.size(), Real(-1e300),
+        [&](std::size_t b, std::size_t end) {
+          Real m = -1e300;
+          for (std::size_t i = b; i < end; ++i) m = std::max(m, temperature_[i]);
+          return m;
+        },
+        [](Real a, Real b) { return std::max(a, b); });
+    Real d = 0;
+    for (const Material& m : setup_.materials) {
+      const PoreWater& pw = m.moisture;
+      if (!pw.active()) continue;
+      const Real theta = std::min(tmax, pw.boiling_point), dry = m.rest_density / (1 + pw.moisture);
+      for (const Real x : {pw.moisture, 0.5 * pw.moisture, 0.2 * pw.moisture, 0.05 * pw.moisture})
+        d = std::max(d, pw.effective_diffusivity(theta, x, m.rest_density * m.specific_heat, dry));
+    }
+    d = setup_.oven.bake_step(d);
+    if (d > 0) bounds.emplace_back("vapour_diffusion", s.conduction_factor * hs * hs / d);
+  }
   return bounds;
 }
 
@@ -386,6 +427,7 @@ void SphSolver::step(Real dt) {
   phase_xsph();
   phase_viscosity(dt);
   phase_heat(dt);
+  if (moist_) phase_water(dt);
   phase_browning(dt);
   phase_properties();
   phase_smoothing();
@@ -418,7 +460,24 @@ std::vector<Real> SphSolver::sample(const Vec3& x, const std::vector<std::string
 namespace bakesim::sph {
 
 std::vector<std::pair<std::string, double>> SphSolver::checkpoint_state() const {
-  return {{"time", time_}, {"steps", double(steps_)}, {"exchanged_heat", exchanged_heat_}};
+  return {{"time", time_},
+          {"steps", double(steps_)},
+          {"exchanged_heat", exchanged_heat_},
+          {"water_evaporated", water_budget_.evaporated},
+          {"water_boiled", water_budget_.boiled},
+          {"water_clamped", water_budget_.clamped},
+          {"latent_out", water_budget_.latent_out}};
+}
+
+std::vector<std::pair<std::string, Real>> SphSolver::frame_quantities() const {
+  std::vector<std::pair<std::string, Real>> out = {{"heat_in", exchanged_heat_}};
+  if (moist_) {
+    out.emplace_back("water_total", deterministic_sum(x_.size(), [&](std::size_t i) { return (*water_)[i]; }));
+    out.emplace_back("water_evaporated", water_budget_.evaporated);
+    out.emplace_back("latent_heat_out", water_budget_.latent_out);
+    out.emplace_back("water_boiled", water_budget_.boiled);
+  }
+  return out;
 }
 
 void SphSolver::restore_state(const std::vector<std::pair<std::string, double>>& state) {
@@ -429,6 +488,14 @@ void SphSolver::restore_state(const std::vector<std::pair<std::string, double>>&
       steps_ = long(value);
     else if (name == "exchanged_heat")
       exchanged_heat_ = value;
+    else if (name == "water_evaporated")
+      water_budget_.evaporated = value;
+    else if (name == "water_boiled")
+      water_budget_.boiled = value;
+    else if (name == "water_clamped")
+      water_budget_.clamped = value;
+    else if (name == "latent_out")
+      water_budget_.latent_out = value;
   }
   // Neighbour lists, pair kernels and per-step scratch are rebuilt by the next
   // step, which starts by sorting and searching.

@@ -21,6 +21,7 @@
 //             state of bubble particles                    (Eq 4.1–4.4, 3.52)
 //   smoothing per-particle h for the next step (optional)  (Eq 3.54–3.56)
 // With adaptive smoothing every pair uses h_ij = (h_i + h_j)/2 (Eq 3.56).
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -52,7 +53,8 @@ class SphSolver final : public Solver {
   const ParticleSet& particles() const override { return particles_; }
   std::vector<std::pair<std::string, double>> checkpoint_state() const override;
   // stats.csv's heat_in: the heat in through the surface since the start, J (as MPM's).
-  std::vector<std::pair<std::string, Real>> frame_quantities() const override { return {{"heat_in", exchanged_heat_}}; }
+  // With moisture also the water's: water_total, water_evaporated, latent_heat_out, water_boiled.
+  std::vector<std::pair<std::string, Real>> frame_quantities() const override;
   void restore_state(const std::vector<std::pair<std::string, double>>& state) override;
   std::string restored_state_problem() const override;
   ParticleSet& particles_for_restore() override { return particles_; }
@@ -98,6 +100,7 @@ class SphSolver final : public Solver {
   void phase_viscosity(Real dt);
   void phase_heat(Real dt);
   void phase_browning(Real dt);
+  void phase_water(Real dt);
   void phase_properties();
   void phase_smoothing();
   void assign_bubbles();
@@ -149,6 +152,20 @@ class SphSolver final : public Solver {
   ColliderTemperatures wall_temperatures_, mesh_temperatures_;  // at this step's bake time (heat phase)
   int viscosity_iterations_ = 0;
   Real exchanged_heat_ = 0.0;
+  // Moisture (physics/water.hpp): on when a material carries water.
+  bool moist_ = false;
+  struct WaterBudget {
+    Real evaporated = 0;  // kg that left (surface and boiled)
+    Real boiled = 0;      // kg boiled off at the boiling cap
+    Real clamped = 0;     // kg a particle was asked to give beyond what it held (not removed)
+    Real latent_out = 0;  // J the water took with it
+  } water_budget_;
+  std::vector<Real>* water_ = nullptr;                                  // water_mass, kg (moisture only)
+  std::vector<Real>* moisture_ = nullptr;                               // X, kg/kg dry
+  std::vector<Real>* vapour_density_ = nullptr;                         // ρ_v, kg/m³
+  std::vector<std::array<Real, 2>> water_coefficients_, water_change_;  // per step: (vapour, liquid)
+  std::vector<std::array<Real, 3>> step_book_;                          // per step: latent J, boiled kg, clamped kg
+  std::vector<std::uint8_t> air_facing_;  // heat phase: this surface particle exchanges with the air
 
   ParticleSet particles_;
   std::vector<Vec3>& x_;
@@ -198,7 +215,7 @@ class SphSolver final : public Solver {
 
   PhaseTimers timers_;
   int t_kick_, t_drift_, t_collide_, t_sort_, t_neigh_, t_density_, t_surface_, t_stress_, t_pressure_, t_forces_,
-      t_xsph_, t_viscosity_, t_heat_, t_browning_, t_properties_, t_smoothing_, t_check_;
+      t_xsph_, t_viscosity_, t_heat_, t_water_ = 0, t_browning_, t_properties_, t_smoothing_, t_check_;
   Real time_ = 0.0;
   long steps_ = 0;
   std::string dt_bound_ = "cfl";

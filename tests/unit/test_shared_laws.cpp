@@ -262,8 +262,10 @@ TEST(BakeStatistics, CoreIsTheColdestCrustIsAreaWeightedAndMoistureIsMeasuredFro
   auto& area = ps.add_scalar("air_area", "m^2");
   auto& water = ps.add_scalar("water_mass", "kg");
   auto& body = ps.add_int("body_id");
+  auto& mass = ps.add_scalar("mass", "kg");
   ps.resize(5);
   body = {0, 0, 0, 1, 1};
+  mass = {3e-3, 3e-3, 4e-3, 8e-3, 1e-3};
   t = {30, 80, 120, 50, 60};
   area = {0, 1e-4, 3e-4, 2e-4, 0};
   water = {1e-3, 1e-3, 2e-3, 4e-3, 0};
@@ -271,12 +273,14 @@ TEST(BakeStatistics, CoreIsTheColdestCrustIsAreaWeightedAndMoistureIsMeasuredFro
   EXPECT_TRUE(stats.has_water());
   EXPECT_FALSE(stats.has_co2());
   EXPECT_EQ(stats.columns("loaf"), (std::vector<std::string>{"core_temperature:loaf", "crust_temperature:loaf",
-                                                             "water:loaf", "moisture_loss_percent:loaf"}));
+                                                             "water:loaf", "moisture_loss_percent:loaf",
+                                                             "weight_loss_percent:loaf"}));
   water[2] = 0.5e-3;  // the crust dries: 1.5 g of the loaf's 4 g gone
   const std::vector<BodyBake> b = stats.compute(ps);
   EXPECT_EQ(b[0].core_temperature, 30.0);
   EXPECT_NEAR(b[0].crust_temperature, (1e-4 * 80 + 3e-4 * 120) / 4e-4, 1e-12);
   EXPECT_NEAR(b[0].moisture_loss_percent, 37.5, 1e-12);
+  EXPECT_NEAR(b[0].weight_loss_percent, 15.0, 1e-12);  // 1.5 g of the loaf's 10 g
   EXPECT_EQ(b[1].core_temperature, 50.0);
   EXPECT_NEAR(b[1].crust_temperature, 50.0, 1e-12);
   EXPECT_NEAR(b[1].moisture_loss_percent, 0.0, 1e-12);

@@ -22,9 +22,11 @@ void MpmSolver::phase_plasticity(Real dt) {
   const bool heat = thermal(), mixture = heat && !st.baseline;
   const Real dtb = setup_.oven.bake_step(dt);
   const Real flux_scale = 4.0 * inv_dx_;
+  const Real mass_transfer = setup_.oven.mass_transfer_at(time_), air_vapour = setup_.oven.air_vapour_density;
   for (std::size_t mi = 0; mi < setup_.materials.size(); ++mi) {
     const Material& mat = setup_.materials[mi];
     const bool gas = mixture && mat.gas.active(), wet = mixture && mat.water.active();
+    const bool moist = wet && mat.moisture.active();
     const Real expansion = mat.thermal_expansion * mat.lame.lambda;
     std::visit(
         [&](const auto& elastic) {
@@ -99,6 +101,17 @@ void MpmSolver::phase_plasticity(Real dt) {
                           water_vec_[i] = -(volume * mat.water.diffusion_coefficient(theta) * mat.water.water_density *
                                             flux_scale) *
                                           grad_s_[i];
+                          if (moist) {
+                            // physics/water.hpp: the vapour in equilibrium with the moisture,
+                            // its flux through the pores and what leaves through the surface.
+                            const PoreWater& pw = mat.moisture;
+                            const Real x = water_[i] * (1 + pw.moisture) / m_[i];
+                            const Real rho_v = pw.vapour_density(theta, x);
+                            moisture_[i] = x;
+                            vapour_density_[i] = rho_v;
+                            vapour_src_[i] = -mass_transfer * (rho_v - air_vapour) * air_area_[i];
+                            vapour_vec_[i] = -(volume * pw.vapour_conductance(theta) * flux_scale) * grad_vapour_[i];
+                          }
                         }
                         tau.diagonal().array() -= kirchhoff_pressure;
                         heat_src_[i] = SurfaceExchange{exchange_[i], exchange_t_[i]}.heat_rate(temperature_[i]);

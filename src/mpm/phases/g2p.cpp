@@ -31,10 +31,11 @@ void MpmSolver::g2p(Real dt) {
         Real v[3] = {0, 0, 0};
         Real b[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};  // b[col][row] = Σ w v_row offset_col
         // Thermal gathers: Σ w of {Δθ, k, kθ, r, k_air} and Σ w o of {θ_new, s}.
-        Real hs[5] = {0, 0, 0, 0, 0}, hg[3][2] = {{0, 0}, {0, 0}, {0, 0}};
+        // (moisture: and Σ w r_v, Σ w o ρ_v)
+        Real hs[6] = {0, 0, 0, 0, 0, 0}, hg[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
         for (int i = 0; i < 3; ++i) {
           Real vi[3] = {0, 0, 0}, bi[2][3] = {{0, 0, 0}, {0, 0, 0}};  // Σ over j, k at this i
-          Real hsi[5] = {0, 0, 0, 0, 0}, hgi[3][2] = {{0, 0}, {0, 0}, {0, 0}};
+          Real hsi[6] = {0, 0, 0, 0, 0, 0}, hgi[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
           for (int j = 0; j < 3; ++j) {
             const Real oy = j - ay.frac;
             const std::size_t row_index = std::size_t(ax.base + i) * syz + std::size_t(ay.base + j) * nz + az.base;
@@ -56,17 +57,17 @@ void MpmSolver::g2p(Real dt) {
             }
             if constexpr (kThermal) {
               const HeatState* hrow = &heat_state_[row_index];
-              Real sj[5] = {0, 0, 0, 0, 0}, tj[2] = {0, 0}, tz[2] = {0, 0};
+              Real sj[6] = {0, 0, 0, 0, 0, 0}, tj[3] = {0, 0, 0}, tz[3] = {0, 0, 0};
               for (int kk = 0; kk < 3; ++kk) {
                 const Real w = az.w[kk], oz = kk - az.frac;
                 const HeatState& f = hrow[kk];
                 sj[0] += w * f.dtheta, sj[1] += w * f.exchange, sj[2] += w * f.exchange_theta,
-                    sj[3] += w * f.water_ratio, sj[4] += w * f.air_area;
-                tj[0] += w * f.theta, tj[1] += w * f.saturation;
-                tz[0] += w * f.theta * oz, tz[1] += w * f.saturation * oz;
+                    sj[3] += w * f.water_ratio, sj[4] += w * f.air_area, sj[5] += w * f.vapour_ratio;
+                tj[0] += w * f.theta, tj[1] += w * f.saturation, tj[2] += w * f.vapour_density;
+                tz[0] += w * f.theta * oz, tz[1] += w * f.saturation * oz, tz[2] += w * f.vapour_density * oz;
               }
-              for (int q = 0; q < 5; ++q) hsi[q] += wy * sj[q];
-              for (int q = 0; q < 2; ++q) {
+              for (int q = 0; q < 6; ++q) hsi[q] += wy * sj[q];
+              for (int q = 0; q < 3; ++q) {
                 hgi[0][q] += wy * tj[q];  // carried to x below
                 hgi[1][q] += wy * tj[q] * oy;
                 hgi[2][q] += wy * tz[q];
@@ -81,8 +82,8 @@ void MpmSolver::g2p(Real dt) {
             b[2][r] += wx * bi[1][r];
           }
           if constexpr (kThermal) {
-            for (int q = 0; q < 5; ++q) hs[q] += wx * hsi[q];
-            for (int q = 0; q < 2; ++q) {
+            for (int q = 0; q < 6; ++q) hs[q] += wx * hsi[q];
+            for (int q = 0; q < 3; ++q) {
               hg[0][q] += wx * hgi[0][q] * ox;
               hg[1][q] += wx * hgi[1][q];
               hg[2][q] += wx * hgi[2][q];
@@ -114,10 +115,27 @@ void MpmSolver::g2p(Real dt) {
           temperature_[p] = std::clamp(temperature_[p] + hs[0], flip_bounds_[0], flip_bounds_[1]);
           exchange_[p] = volume * hs[1];
           exchange_t_[p] = volume * hs[2];
-          water_[p] *= 1 + hs[3];
+          // Moisture (physics/water.hpp): the water that arrives or leaves as vapour
+          // condenses or evaporates here, giving or taking h_fg; then the boiling cap.
+          const Real vapour_gain = water_[p] * hs[5];
+          water_[p] *= 1 + hs[3] + hs[5];
           air_area_[p] = volume * hs[4];
           grad_theta_[p] = d_inv * Vec3(hg[0][0], hg[1][0], hg[2][0]);
           grad_s_[p] = d_inv * Vec3(hg[0][1], hg[1][1], hg[2][1]);
+          if (moist_) {
+            grad_vapour_[p] = d_inv * Vec3(hg[0][2], hg[1][2], hg[2][2]);
+            const PoreWater& pw = setup_.materials[material_[p]].moisture;
+            Real latent = 0;
+            if (pw.active()) {
+              temperature_[p] += pw.latent_heat * vapour_gain / heat_capacity_[p];
+              const Boiling b = boil(heat_capacity_[p], temperature_[p], water_[p], pw.boiling_point, pw.latent_heat);
+              temperature_[p] = b.temperature;
+              water_[p] = b.water;
+              latent = pw.latent_heat * (b.boiled - vapour_gain);
+              boiled_step_[p] = b.boiled;
+            }
+            latent_step_[p] = latent;
+          }
         }
       },
       1024);
@@ -164,7 +182,15 @@ void MpmSolver::phase_g2p(Real dt) {
     if (setup_.colliders[ci].temperature)
       lo = std::min(lo, collider_temperatures_[ci]), hi = std::max(hi, collider_temperatures_[ci]);
   flip_bounds_ = {lo, hi};
+  if (moist_) latent_step_.assign(x_.size(), 0), boiled_step_.assign(x_.size(), 0);
   g2p<true>(dt);
+  if (moist_) {
+    // What the particles gave as latent heat and boiled off this step (deterministic sums).
+    budget_.latent_out += deterministic_sum(x_.size(), [&](std::size_t i) { return latent_step_[i]; });
+    const Real boiled = deterministic_sum(x_.size(), [&](std::size_t i) { return boiled_step_[i]; });
+    budget_.boiled += boiled;
+    budget_.evaporated += boiled;
+  }
 }
 
 }  // namespace bakesim::mpm

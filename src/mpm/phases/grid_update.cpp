@@ -95,11 +95,18 @@ void MpmSolver::phase_grid(Real dt) {
           const Real inv_v = 1.0 / volume;
           if (!implicit_mass_.empty()) implicit_mass_[k] = f.heat_capacity;
           const Real theta = f.energy / f.heat_capacity, dtheta = dtb * f.heat_rate / f.heat_capacity;
-          Real ratio = 0, sat = 0;
+          Real ratio = 0, sat = 0, vapour_ratio = 0;
           if (f.water > 0) {
             ratio = dtb * f.water_rate / f.water;
             if (ratio < -1) clamp_sum += (-1 - ratio) * f.water, ratio = -1;
-            sat = (1 + ratio) * f.water * inv_rho_w / volume;
+            // Moisture: the vapour's share, applied as the liquid's (never below what the node holds).
+            vapour_ratio = dtb * f.vapour_rate / f.water;
+            if (ratio + vapour_ratio < -1)
+              clamp_sum += (-1 - ratio - vapour_ratio) * f.water, vapour_ratio = -1 - ratio;
+            sat = (1 + ratio + vapour_ratio) * f.water * inv_rho_w / volume;
+          } else {
+            // Nothing here to carry what arrives: it is booked as gone, so the budget still closes.
+            clamp_sum -= dtb * (f.water_rate + f.vapour_rate);
           }
           SurfaceExchange exchanged = hot;
           exchanged.add(air_area, air_beta, air_t);
@@ -111,6 +118,8 @@ void MpmSolver::phase_grid(Real dt) {
           s.water_ratio = ratio;
           s.saturation = sat;
           s.air_area = air_area * inv_v;
+          s.vapour_ratio = vapour_ratio;
+          s.vapour_density = f.vapour * inv_v;
         }
         return clamp_sum;
       },

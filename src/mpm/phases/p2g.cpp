@@ -48,7 +48,7 @@ void MpmSolver::p2g(Real dt) {
       for (int row = 0; row < 3; ++row) a[col][row] *= dx_;
     const Real mv[3] = {mp * v_[p].x(), mp * v_[p].y(), mp * v_[p].z()};
     // Thermal channels: scalar parts (h) and offset slopes (hv, per axis).
-    Real h[6] = {0, 0, 0, 0, 0, 0}, hv[3][2] = {{0, 0}, {0, 0}, {0, 0}};
+    Real h[8] = {0, 0, 0, 0, 0, 0, 0, 0}, hv[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
     if constexpr (kThermal) {
       h[0] = heat_capacity_[p];
       h[1] = heat_capacity_[p] * temperature_[p];
@@ -56,13 +56,15 @@ void MpmSolver::p2g(Real dt) {
       h[3] = water_[p];
       h[4] = j_[p] * volume0_[p];
       h[5] = water_src_[p];
-      for (int d = 0; d < 3; ++d) hv[d][0] = heat_vec_[p][d], hv[d][1] = water_vec_[p][d];
+      h[6] = h[4] * vapour_density_[p];
+      h[7] = vapour_src_[p];
+      for (int d = 0; d < 3; ++d) hv[d][0] = heat_vec_[p][d], hv[d][1] = water_vec_[p][d], hv[d][2] = vapour_vec_[p][d];
     }
     for (int i = 0; i < 3; ++i) {
       const Real ox = i - ax.frac;
       Real ti[3];
       for (int r = 0; r < 3; ++r) ti[r] = mv[r] + a[0][r] * ox;
-      const Real qi = h[2] + hv[0][0] * ox, wi = h[5] + hv[0][1] * ox;
+      const Real qi = h[2] + hv[0][0] * ox, wi = h[5] + hv[0][1] * ox, vi = h[7] + hv[0][2] * ox;
       for (int j = 0; j < 3; ++j) {
         const Real oy = j - ay.frac, wij = ax.w[i] * ay.w[j];
         Real tj[3];
@@ -76,7 +78,7 @@ void MpmSolver::p2g(Real dt) {
           for (int r = 0; r < 3; ++r) node.mv[r] += w * (tj[r] + a[2][r] * oz);
         }
         if constexpr (kThermal) {
-          const Real qj = qi + hv[1][0] * oy, wj = wi + hv[1][1] * oy;
+          const Real qj = qi + hv[1][0] * oy, wj = wi + hv[1][1] * oy, vj = vi + hv[1][2] * oy;
           HeatSums* hrow = &heat_sums_[row_index];
           for (int kk = 0; kk < 3; ++kk) {
             const Real oz = kk - az.frac, w = wij * az.w[kk];
@@ -87,6 +89,8 @@ void MpmSolver::p2g(Real dt) {
             f.water += w * h[3];
             f.volume += w * h[4];
             f.water_rate += w * (wj + hv[2][1] * oz);
+            f.vapour += w * h[6];
+            f.vapour_rate += w * (vj + hv[2][2] * oz);
           }
         }
       }
@@ -104,6 +108,8 @@ void MpmSolver::phase_p2g(Real dt) {
     if (setup_.settings.heat == HeatMethod::explicit_)
       budget_.heat_in += dtb * deterministic_sum(x_.size(), [&](std::size_t i) { return heat_src_[i]; });
     budget_.evaporated -= dtb * deterministic_sum(x_.size(), [&](std::size_t i) { return water_src_[i]; });
+    // Vapour leaving through the surface (its latent heat is booked where G2P takes it from the particles).
+    if (moist_) budget_.evaporated -= dtb * deterministic_sum(x_.size(), [&](std::size_t i) { return vapour_src_[i]; });
   } else {
     p2g<false>(dt);
   }

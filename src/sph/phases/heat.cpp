@@ -81,10 +81,11 @@ void SphSolver::phase_heat(Real dt) {
       n,
       [&](std::size_t i) {
         dtemp_[i] = 0.0;
+        air_facing_[i] = 0;
         if (!surface_[i] || area_[i] <= 0 || setup_.bodies[body_[i]].hold_temperature) return;
         Real outside = air, coefficient = h_air;
+        bool found = false;  // touching a heated collider (then no vapour leaves here)
         if (heated_colliders_) {
-          bool found = false;
           for (std::size_t ci = 0; ci < walls_.size(); ++ci) {
             const Collider& c = walls_[ci];
             if (!c.temperature || found) continue;
@@ -106,6 +107,7 @@ void SphSolver::phase_heat(Real dt) {
             }
           }
         }
+        air_facing_[i] = !found;
         const Real capacity = m_[i] * setup_.materials[material_[i]].specific_heat;
         const Real before = temperature_[i];
         temperature_[i] = SurfaceExchange::relax(before, outside, coefficient, area_[i], capacity, dt_bake);

@@ -1,0 +1,53 @@
+#include "physics/water.hpp"
+
+namespace bakesim {
+
+namespace {
+constexpr Real kMmHg = 133.322368;  // Pa
+struct Antoine {
+  Real a, b, c;
+};
+constexpr Antoine kLow{8.07131, 1730.63, 233.426}, kHigh{8.14019, 1810.94, 244.485};
+const Antoine& antoine_for(Real celsius) { return celsius < 100 ? kLow : kHigh; }
+}  // namespace
+
+Real saturation_vapour_pressure(Real celsius) {
+  const Antoine& k = antoine_for(celsius);
+  return kMmHg * std::pow(10.0, k.a - k.b / (k.c + celsius));
+}
+
+Real saturation_vapour_pressure_slope(Real celsius) {
+  const Antoine& k = antoine_for(celsius);
+  return saturation_vapour_pressure(celsius) * std::log(10.0) * k.b / ((k.c + celsius) * (k.c + celsius));
+}
+
+Real SorptionIsotherm::activity(Real moisture, Real celsius) const {
+  if (!(moisture > 0)) return 0;
+  const Real a = std::exp(oswin_a_slope * (celsius + kZeroCelsius) + oswin_a_offset);
+  const Real y = std::pow(100.0 * moisture / a, 1.0 / oswin_exponent);
+  return y / (1 + y);
+}
+
+Real PoreWater::vapour_density(Real celsius, Real moisture_now) const {
+  const Real theta = std::min(celsius, boiling_point);
+  const Real p = sorption.activity(moisture_now, theta) * saturation_vapour_pressure(theta);
+  return p * kWaterMolarMass / (kGasConstant * (theta + kZeroCelsius));
+}
+
+Real PoreWater::effective_diffusivity(Real celsius, Real moisture_now, Real heat_capacity_density,
+                                      Real dry_density) const {
+  // ∂ρ_v/∂θ and ∂ρ_v/∂X by differences: the law is smooth, the bound only needs its size.
+  const Real theta = std::min(celsius, boiling_point - 0.5);
+  const Real x = std::max(moisture_now, Real(1e-4));
+  const Real dr_dt = (vapour_density(theta + 0.5, x) - vapour_density(theta - 0.5, x));
+  const Real dx = 1e-3 * std::max(x, Real(0.01));
+  const Real dr_dx = std::abs(vapour_density(theta, x + dx) - vapour_density(theta, std::max(x - dx, Real(0)))) /
+                     (x + dx - std::max(x - dx, Real(0)));
+  const Real conductance = vapour_conductance(celsius);
+  Real d = liquid_diffusion(celsius);
+  if (heat_capacity_density > 0) d = std::max(d, latent_heat * conductance * std::abs(dr_dt) / heat_capacity_density);
+  if (dry_density > 0) d = std::max(d, conductance * dr_dx / dry_density);
+  return d;
+}
+
+}  // namespace bakesim

@@ -1,0 +1,109 @@
+#pragma once
+// Water, vapour and latent heat in baking dough: the one law both solvers use
+// (docs/physics.md "Water, vapour and latent heat"; shared/spec
+// water-and-latent-heat.md, after Thorvaldsson & Janestad 1999 and Zhang &
+// Datta 2006).
+//
+// Per particle the state is its liquid water W (kg) beside the dry solid it
+// belongs to; the vapour in the pores is in local equilibrium with it,
+//   ρ_v = a_w(X, T) p_sat(T) M_w / (R T_K),   X = W / m_dry (dry basis),
+// and is not stored: φ_g ρ_v is under 0.6 kg/m³ against 100–200 kg/m³ of
+// liquid (0.3–0.6%), and leaving its storage out removes the vapour's own
+// time scale (Δx²/D_v, milliseconds) from the step. What moves is
+//   vapour   q_v = −φ_g D_v(T) ∇ρ_v            (evaporates where it leaves,
+//                                                condenses where it arrives,
+//                                                carrying h_fg: the heat pipe)
+//   liquid   q_w = −D_w(T) ∇c_w,  c_w = W / V   (Fick; no latent heat)
+//   surface  m = h_m (ρ_v,s − ρ_v,air)          (leaves as vapour, takes h_fg)
+// and the boiling cap: the pores are open to the oven, so moist dough does not
+// heat past the boiling point; the energy beyond it boils water off (vented),
+// and only dry dough (the crust) heats further.
+#include <algorithm>
+#include <cmath>
+
+#include "core/types.hpp"
+#include "physics/constants.hpp"
+
+namespace bakesim {
+
+inline constexpr Real kWaterMolarMass = 0.018015;  // M_w, kg/mol
+inline constexpr Real kAtmosphere = 101325.0;      // p_atm, Pa
+inline constexpr Real kLatentHeatAt100 = 2.257e6;  // h_fg at 100 °C, J/kg (steam tables)
+inline constexpr Real kAirMolarMass = 0.028965;    // kg/mol, dry air
+inline constexpr Real kAirSpecificHeat = 1012.0;   // J/(kg K), dry air at 100–200 °C (1009–1023)
+
+// Saturation vapour pressure of water (Pa) at θ °C: the Antoine equation,
+// log₁₀ p[mmHg] = A − B / (C + θ), with the constants for 1–100 °C
+// (A 8.07131, B 1730.63, C 233.426) and for 99–374 °C (A 8.14019, B 1810.94,
+// C 244.485) (Dortmund Data Bank constants as tabulated for water), switched at
+// 100 °C; both stay within 1% of the IAPWS-IF97 saturation line from 20 to
+// 180 °C (tests/unit/test_water.cpp) and differ by 0.6% at the switch.
+Real saturation_vapour_pressure(Real celsius);
+// d p_sat / dθ, Pa/K.
+Real saturation_vapour_pressure_slope(Real celsius);
+
+// Water activity of the dough from its moisture X (kg water / kg dry solid):
+// the Oswin isotherm X = (a / 100) (a_w / (1 − a_w))ⁿ with a = exp(c₁ T_K + c₂),
+// inverted: a_w = y / (1 + y), y = (100 X / a)^(1/n). a_w → 0 as the dough
+// dries and → 1 for moist dough.
+struct SorptionIsotherm {
+  // The scene's defaults (schema): a_w 0.97 at X = 0.3, 0.45 at X = 0.1.
+  Real oswin_a_slope = 0;       // c₁, 1/K
+  Real oswin_a_offset = 2.361;  // c₂ (a = 10.6)
+  Real oswin_exponent = 0.3;    // n
+  Real activity(Real moisture, Real celsius) const;
+};
+
+// The material's water: the parameters of the law above.
+struct PoreWater {
+  Real moisture = 0;                    // initial X₀, kg/kg dry; 0: no water
+  Real liquid_diffusivity = 0;          // D_w at 100 °C, m²/s; D_w(θ) = D_w θ⁺ / 100 °C
+  Real vapour_diffusivity = 2.6e-5;     // D_v of vapour in the pore gas at 25 °C, m²/s
+  Real tortuosity = 1;                  // τ: the effective D is φ_g D_v (T_K / 298.15)^1.75 / τ
+  Real gas_fraction = 0.6;              // φ_g, volume fraction of gas in the dough
+  Real latent_heat = kLatentHeatAt100;  // h_fg, J/kg
+  Real boiling_point = 100;             // θ_b, °C
+  SorptionIsotherm sorption;
+
+  bool active() const { return moisture > 0; }
+  // Equilibrium vapour density in the pore gas, kg/m³, never above the boiling point's.
+  Real vapour_density(Real celsius, Real moisture_now) const;
+  // φ_g D_eff(θ), the coefficient of q_v = −(φ_g D) ∇ρ_v, m²/s.
+  Real vapour_conductance(Real celsius) const {
+    const Real tk = std::max(celsius, Real(-50)) + kZeroCelsius;
+    return gas_fraction * vapour_diffusivity * std::pow(tk / 298.15, 1.75) / tortuosity;
+  }
+  Real liquid_diffusion(Real celsius) const { return liquid_diffusivity * std::max(celsius, Real(0)) / 100.0; }
+  // Largest diffusivity of the coupled heat–water system a particle of
+  // heat capacity per volume ρc (J/(m³K)) and dry density ρ_dry (kg/m³) sees
+  // at θ and X, m²/s: the explicit step bound is Δx² / (2·dim·this).
+  Real effective_diffusivity(Real celsius, Real moisture_now, Real heat_capacity_density, Real dry_density) const;
+};
+
+// The boiling cap on one particle: heat capacity C (J/K), its temperature
+// after this step's heat and water fluxes, its liquid water W (kg). Where
+// W > 0 and θ > θ_b the energy C (θ − θ_b) boils off up to W (kg) at h_fg;
+// whatever is left heats the now dry particle. Energy is conserved exactly:
+// C θ_in = C θ_out + h_fg boiled.
+struct Boiling {
+  Real temperature;
+  Real water;
+  Real boiled;
+};
+inline Boiling boil(Real heat_capacity, Real temperature, Real water, Real boiling_point, Real latent_heat) {
+  if (!(water > 0) || !(temperature > boiling_point) || !(heat_capacity > 0)) return {temperature, water, 0};
+  const Real excess = heat_capacity * (temperature - boiling_point);
+  const Real boiled = std::min(water, excess / latent_heat);
+  return {boiling_point + (excess - boiled * latent_heat) / heat_capacity, water - boiled, boiled};
+}
+
+// Surface mass transfer coefficient h_m (m/s) from the heat transfer
+// coefficient by the Chilton–Colburn analogy, h_m = h / (ρ_air c_p,air Le^(2/3)),
+// with the dry air's density at the oven temperature and 1 atm.
+inline Real mass_transfer_coefficient(Real heat_transfer_coefficient, Real air_celsius, Real lewis_number = 0.85) {
+  const Real tk = std::max(air_celsius, Real(-50)) + kZeroCelsius;
+  const Real rho_air = kAtmosphere * kAirMolarMass / (kGasConstant * tk);
+  return heat_transfer_coefficient / (rho_air * kAirSpecificHeat * std::pow(lewis_number, 2.0 / 3.0));
+}
+
+}  // namespace bakesim

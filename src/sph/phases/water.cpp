@@ -1,0 +1,101 @@
+// Phase water (physics/water.hpp, docs/physics.md "Water, vapour and latent
+// heat"): liquid water per particle, vapour in equilibrium with it diffusing
+// through the pores, the surface's mass transfer to the oven air, latent heat
+// and the boiling cap, on the bake clock.
+#include "sph/solver.hpp"
+
+#include "core/parallel.hpp"
+#include "physics/water.hpp"
+
+namespace bakesim::sph {
+
+// Vapour and liquid move pairwise in the Cleary–Monaghan form of the heat
+// phase, so every pair's exchange is equal and opposite and the water is
+// conserved:
+//   dm_i/dt = V_i Σ_j V_j (D_i + D_j)(c_i − c_j) x_ij·∇W_ij / (r² + η²)
+// with c = ρ_v, D = φ_g D_v(θ) for the vapour and c = W/V, D = D_w(θ) for the
+// liquid. The water a particle gains as vapour condenses and gives h_fg
+// (evaporating takes it); at the surface m = h_m (ρ_v − ρ_v,air) A leaves,
+// where heat goes to the air (not to a heated collider: colliders take no
+// vapour). Then the boiling cap: moist dough does not heat past θ_b.
+void SphSolver::phase_water(Real dt) {
+  ScopedPhase t(timers_, t_water_);
+  const Real dtb = setup_.oven.bake_step(dt);
+  const std::size_t n = x_.size();
+  std::vector<Real>& water = *water_;
+  std::vector<Real>& moisture = *moisture_;
+  std::vector<Real>& vapour = *vapour_density_;
+  // Per particle: moisture, vapour density and the two coefficients (0 for dry materials and held bodies).
+  parallel_for(
+      n,
+      [&](std::size_t i) {
+        const PoreWater& pw = setup_.materials[material_[i]].moisture;
+        if (!pw.active() || setup_.bodies[body_[i]].hold_temperature) {
+          vapour[i] = 0, water_coefficients_[i] = {0, 0};
+          return;
+        }
+        const Real x = water[i] * (1 + pw.moisture) / m_[i];
+        moisture[i] = x;
+        vapour[i] = pw.vapour_density(temperature_[i], x);
+        water_coefficients_[i] = {pw.vapour_conductance(temperature_[i]), pw.liquid_diffusion(temperature_[i])};
+      },
+      4096);
+  const Real eta2_fixed = 0.01 * h_ * h_;
+  const Real h_m = setup_.oven.mass_transfer_at(time_), air_vapour = setup_.oven.air_vapour_density;
+  parallel_for(n, [&](std::size_t i) {
+    water_change_[i] = {0, 0};
+    const auto [dv_i, dl_i] = water_coefficients_[i];
+    if (!(dv_i > 0) && !(dl_i > 0)) return;
+    const std::uint32_t* nb = lists_.begin(i);
+    const std::uint32_t count = lists_.count(i);
+    const float* pr = lists_.distances(i);
+    const float* pd = pair_dwr_.data() + i * lists_.stride();
+    const Real ci = water[i] / volume_[i];
+    Real vapour_sum = 0, liquid_sum = 0;
+    for (std::uint32_t k = 0; k < count; ++k) {
+      const std::uint32_t j = nb[k];
+      const auto [dv_j, dl_j] = water_coefficients_[j];
+      if (!(dv_j > 0) && !(dl_j > 0)) continue;  // a dry material: no pores to share
+      const Real r = pr[k];
+      const Real hij = 0.5 * (smoothing_[i] + smoothing_[j]);
+      const Real eta2 = adaptive_ ? 0.01 * hij * hij : eta2_fixed;
+      const Real pair = volume_[j] * Real(pd[k]) * r * r / (r * r + eta2);
+      vapour_sum += pair * (dv_i + dv_j) * (vapour[i] - vapour[j]);
+      liquid_sum += pair * (dl_i + dl_j) * (ci - water[j] / volume_[j]);
+    }
+    Real gained_as_vapour = dtb * volume_[i] * vapour_sum;
+    if (air_facing_[i]) gained_as_vapour -= dtb * h_m * (vapour[i] - air_vapour) * area_[i];
+    water_change_[i] = {gained_as_vapour, dtb * volume_[i] * liquid_sum};
+  });
+  // Apply, with latent heat and the boiling cap; book what left.
+  parallel_for(
+      n,
+      [&](std::size_t i) {
+        step_book_[i] = {0, 0, 0};
+        const PoreWater& pw = setup_.materials[material_[i]].moisture;
+        if (!pw.active() || setup_.bodies[body_[i]].hold_temperature) return;
+        const auto [vapour_gain, liquid_gain] = water_change_[i];
+        const Real capacity = m_[i] * setup_.materials[material_[i]].specific_heat;
+        Real w = water[i] + vapour_gain + liquid_gain, clamped = 0;
+        if (w < 0) clamped = -w, w = 0;  // asked for more than the particle held: not removed
+        temperature_[i] += pw.latent_heat * vapour_gain / capacity;
+        const Boiling b = boil(capacity, temperature_[i], w, pw.boiling_point, pw.latent_heat);
+        temperature_[i] = b.temperature;
+        water[i] = b.water;
+        moisture[i] = water[i] * (1 + pw.moisture) / m_[i];
+        // Surface loss is the vapour the particle's pairs did not account for.
+        step_book_[i] = {pw.latent_heat * (b.boiled - vapour_gain), b.boiled, clamped};
+      },
+      4096);
+  const Real latent = deterministic_sum(n, [&](std::size_t i) { return step_book_[i][0]; });
+  const Real boiled = deterministic_sum(n, [&](std::size_t i) { return step_book_[i][1]; });
+  const Real clamped = deterministic_sum(n, [&](std::size_t i) { return step_book_[i][2]; });
+  const Real gained = deterministic_sum(n, [&](std::size_t i) { return water_change_[i][0] + water_change_[i][1]; });
+  water_budget_.latent_out += latent;
+  water_budget_.boiled += boiled;
+  water_budget_.clamped += clamped;
+  // What left through the surface is what the particles lost in all (pairs cancel), less what was not there to lose.
+  water_budget_.evaporated += boiled - gained - clamped;
+}
+
+}  // namespace bakesim::sph

@@ -1,0 +1,91 @@
+// The water, vapour and latent-heat law (physics/water.hpp) alone, against
+// outside numbers: the IAPWS-IF97 saturation line, the ideal-gas vapour
+// density, the Oswin isotherm's own inverse, energy conservation of the
+// boiling cap, and the Chilton–Colburn coefficient of the spec.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "physics/water.hpp"
+
+using namespace bakesim;
+
+TEST(Water, SaturationPressureFollowsTheSteamTablesWithinOnePercent) {
+  // IAPWS-IF97 saturation pressures, kPa.
+  const std::pair<double, double> table[] = {{20, 2.3392},  {60, 19.946},  {100, 101.42},
+                                             {120, 198.67}, {150, 476.16}, {180, 1002.8}};
+  for (const auto& [celsius, kpa] : table)
+    EXPECT_NEAR(saturation_vapour_pressure(celsius) / 1000, kpa, 0.01 * kpa) << celsius << " degC";
+  // The slope is the derivative of the same correlation (central difference), ~3.6 kPa/K at 100 degC.
+  for (const double c : {40.0, 80.0, 99.0, 130.0}) {
+    const double fd = (saturation_vapour_pressure(c + 1e-4) - saturation_vapour_pressure(c - 1e-4)) / 2e-4;
+    EXPECT_NEAR(saturation_vapour_pressure_slope(c), fd, 1e-6 * fd) << c;
+  }
+  EXPECT_NEAR(saturation_vapour_pressure_slope(99.9), 3616, 0.03 * 3616);  // steam tables: 3.62 kPa/K
+}
+
+TEST(Water, VapourDensityIsTheIdealGasAtTheActivityAndStopsAtTheBoilingPoint) {
+  PoreWater w;
+  w.moisture = 0.5;
+  // Saturated steam at 100 degC: 0.598 kg/m^3 (steam tables); the ideal gas gives 0.589 at 1 atm.
+  const double wet = 20.0;  // a_w = 1 to 2e-5 at X = 20 with the default isotherm
+  EXPECT_NEAR(w.sorption.activity(wet, 100), 1.0, 1e-4);
+  EXPECT_NEAR(w.vapour_density(100, wet), 0.598, 0.02 * 0.598);
+  EXPECT_EQ(w.vapour_density(140, wet), w.vapour_density(100, wet));
+  const double a = w.sorption.activity(0.1, 60);
+  EXPECT_NEAR(w.vapour_density(60, 0.1), a * saturation_vapour_pressure(60) * 0.018015 / (8.314462618 * 333.15), 1e-12);
+  EXPECT_EQ(w.vapour_density(60, 0), 0.0);
+}
+
+TEST(Water, OswinActivityInvertsTheIsothermAndFallsAsTheDoughDries) {
+  SorptionIsotherm s;
+  s.oswin_a_slope = -0.0056, s.oswin_a_offset = 5.5, s.oswin_exponent = 0.38;
+  for (const double aw : {0.1, 0.5, 0.9, 0.99})
+    for (const double celsius : {25.0, 90.0}) {
+      const double a = std::exp(s.oswin_a_slope * (celsius + 273.15) + s.oswin_a_offset);
+      const double x = a / 100 * std::pow(aw / (1 - aw), s.oswin_exponent);  // the isotherm, forwards
+      EXPECT_NEAR(s.activity(x, celsius), aw, 1e-12);
+    }
+  const SorptionIsotherm defaults;
+  EXPECT_NEAR(defaults.activity(0.3, 25), 0.97, 0.005);  // moist crumb
+  EXPECT_GT(defaults.activity(0.5, 25), 0.99);
+  EXPECT_NEAR(defaults.activity(0.1, 25), 0.45, 0.01);
+  EXPECT_LT(defaults.activity(0.03, 25), 0.02);  // a dry crust
+}
+
+TEST(Water, BoilingCapConservesEnergyAndOnlyDryDoughHeatsPastIt) {
+  const double c = 2.0, hfg = 2.257e6;  // J/K, J/kg
+  // Enough water: the particle stays at the boiling point and the excess boils off.
+  Boiling b = boil(c, 130, 1e-3, 100, hfg);
+  EXPECT_EQ(b.temperature, 100.0);
+  EXPECT_NEAR(b.boiled, c * 30 / hfg, 1e-18);
+  EXPECT_NEAR(c * 130, c * b.temperature + hfg * b.boiled, 1e-9);
+  EXPECT_NEAR(b.water + b.boiled, 1e-3, 1e-18);
+  // Too little: it boils dry and the rest heats it.
+  b = boil(c, 130, 1e-5, 100, hfg);
+  EXPECT_EQ(b.water, 0.0);
+  EXPECT_NEAR(b.temperature, 130 - hfg * 1e-5 / c, 1e-9);
+  EXPECT_NEAR(c * 130, c * b.temperature + hfg * b.boiled, 1e-9);
+  // Below the boiling point or dry: untouched.
+  EXPECT_EQ(boil(c, 99, 1e-3, 100, hfg).boiled, 0.0);
+  EXPECT_EQ(boil(c, 150, 0, 100, hfg).temperature, 150.0);
+}
+
+TEST(Water, ChiltonColburnGivesTheSpecsMassTransferCoefficient) {
+  // shared/spec: rho_air c_p,air ~ 760 J/(m^3 K) at 190 degC and Le 0.85, so h = 10 gives h_m ~ 0.015 m/s.
+  EXPECT_NEAR(mass_transfer_coefficient(10, 190), 0.015, 0.05 * 0.015);
+  EXPECT_NEAR(mass_transfer_coefficient(20, 190), 2 * mass_transfer_coefficient(10, 190), 1e-15);
+  EXPECT_GT(mass_transfer_coefficient(10, 250), mass_transfer_coefficient(10, 150));  // thinner air
+}
+
+TEST(Water, TheStepBoundsDiffusivityGrowsTowardsTheBoilingPoint) {
+  PoreWater w;
+  w.moisture = 0.54;
+  const double rc = 677e3, dry = 196;
+  const double d40 = w.effective_diffusivity(40, 0.54, rc, dry), d95 = w.effective_diffusivity(95, 0.54, rc, dry);
+  EXPECT_GT(d95, 5 * d40);
+  // The heat-pipe conductivity h_fg phi_g D drho/dT at 95 degC: of order 0.5 W/(m K) (shared/spec: crumb heats ~3x faster).
+  const double k_vapour = d95 * rc;
+  EXPECT_GT(k_vapour, 0.2);
+  EXPECT_LT(k_vapour, 3.0);
+}
