@@ -14,6 +14,29 @@ Real lattice_kernel_sum(const CubicSpline& k, Real s) {
   return sum;
 }
 
+Real flat_face_colour_share(const CubicSpline& k, Real s) {
+  const int n = static_cast<int>(std::ceil(k.support() / s)) + 1;
+  // Σ_k W(x_j − x_k) over the half-lattice z ≤ 0 (ρ_j / m).
+  auto kernel_sum = [&](int jz) {
+    Real sum = 0;
+    for (int i = -n; i <= n; ++i)
+      for (int j = -n; j <= n; ++j)
+        for (int l = -n; l <= n; ++l)
+          if (jz + l <= 0) sum += k.w(s * std::sqrt(Real(i * i + j * j + l * l)));
+    return sum;
+  };
+  // ∇C at the origin, a particle of the top layer: Σ_j V_j W'(r)/r (x_0 − x_j), along z.
+  Real grad_z = 0;
+  for (int i = -n; i <= n; ++i)
+    for (int j = -n; j <= n; ++j)
+      for (int l = -n; l <= 0; ++l) {
+        const Real r = s * std::sqrt(Real(i * i + j * j + l * l));
+        if (r <= 0) continue;
+        grad_z += k.dw_dr_over_r(r) * (-l * s) / kernel_sum(l);
+      }
+  return std::abs(grad_z) / kernel_sum(0) / (s * s);  // V_0 |∇C_0| / s²
+}
+
 WallKernelShare::WallKernelShare(const CubicSpline& k, Real s, Real lattice_sum, int samples) : h_(k.support()) {
   const int n = static_cast<int>(std::ceil(h_ / s)) + 1;
   // Kernel sum and its d-derivative over the ghost layers beyond the wall.

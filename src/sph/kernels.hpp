@@ -112,5 +112,11 @@ class WallKernelShare {
 // Sum of W over an infinite cubic lattice of spacing s around a lattice point,
 // self included.
 Real lattice_kernel_sum(const CubicSpline& kernel, Real spacing);
+// The colour gradient's area share on a flat lattice face: V |∇C| / s² of a
+// particle of the outermost layer of a half-lattice at `spacing`, with the
+// volumes V = m/ρ the density summation gives there (Eq 3.13, 3.28). By the
+// co-area formula Σ V |∇C| over a surface layer is the area the layer holds of
+// the colour's drop, so dividing by this share makes it the surface's area.
+Real flat_face_colour_share(const CubicSpline& kernel, Real spacing);
 
 }  // namespace bakesim::sph

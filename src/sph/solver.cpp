@@ -102,11 +102,7 @@ SphSolver::SphSolver(Setup setup)
     mass_.push_back(m.rest_density / lattice_sum_);
     conductivity_.push_back(m.conductivity);
   }
-  for (std::size_t k = 0; k < setup_.materials.size(); ++k) {
-    // Eq 3.43: 4/3 π r³ = m/ρ0, area π r².
-    const Real r = std::cbrt(3.0 * mass_[k] / (4.0 * kPi * setup_.materials[k].rest_density));
-    exchange_area_.push_back(kPi * r * r);
-  }
+  colour_share_ = flat_face_colour_share(kernel_, s.spacing);
   for (const Collider& c : setup_.colliders) heated_colliders_ |= c.temperature.has_value();
   adaptive_ = s.adaptive.enabled;
   for (const Material& m : setup_.materials)

@@ -148,7 +148,7 @@ class SphSolver final : public Solver {
   bool heated_colliders_ = false;    // some collider carries a temperature
   bool follows_peak_ = false;        // some material reads its curves at the peak temperature
   bool adaptive_ = false;            // per-particle smoothing length (Eq 3.54–3.56)
-  std::vector<Real> exchange_area_;  // per material: π r² of a surface particle (Eq 3.43)
+  Real colour_share_ = 1;             // V |∇C| / s² on a flat lattice face (kernels.hpp): exchange areas
   ColliderTemperatures wall_temperatures_, mesh_temperatures_;  // at this step's bake time (heat phase)
   int viscosity_iterations_ = 0;
   Real exchanged_heat_ = 0.0;

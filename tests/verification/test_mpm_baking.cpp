@@ -118,12 +118,15 @@ TEST_P(SlabHeat, CentreTemperatureFollowsThePlaneWallSeries) {
 
 INSTANTIATE_TEST_SUITE_P(Mpm, SlabHeat, ::testing::Values("explicit", "implicit"));
 
-TEST(MpmBaking, SlabDriesLikeThePlaneWallSeriesAndTheWaterBudgetCloses) {
+class SlabDrying : public ::testing::TestWithParam<double> {};
+
+TEST_P(SlabDrying, CentreFollowsThePlaneWallSeriesAndTheWaterBudgetCloses) {
   // Everything at 100 °C (no heat flow). Water diffuses with D = 1e-8 m²/s and
-  // evaporates from the two x faces with flux E s, E = 5e-4 kg/(m² s):
-  // Bi = E L / (D ρ_w) = 1. The y and z faces touch plates (no air, no evaporation).
+  // evaporates from the two x faces with flux E s, E = Bi D ρ_w / L: the mass
+  // Biot number Bi = 1 (10 cells per half-thickness). The y and z faces
+  // touch plates (no air, no evaporation).
   const Slab s;
-  const double D = 1e-8, E = 5e-4, s0 = 0.5, theta = 100;
+  const double D = 1e-8, E = GetParam() * D * 1000 / s.L, s0 = 0.5, theta = 100;
   const double pad = 3 * s.dx + 0.006, far = 1.0;
   const json material = {{"density", 1000.0},
                          {"youngs_modulus", 1e3},
@@ -150,13 +153,17 @@ TEST(MpmBaking, SlabDriesLikeThePlaneWallSeriesAndTheWaterBudgetCloses) {
       printf("Fo %g centre %g expected %g; total water %g; air area %g (2W^2 %g)\n", fo, measured, expected,
              solver->total_water() / initial, area, 2 * s.W * s.W);
     }
-    EXPECT_NEAR(measured, expected, 0.05 * expected) << "Fo " << fo;
+    EXPECT_NEAR(measured, expected, 0.02) << "Fo " << fo;
     // Budget to round-off: water is only lost through the surface.
     const double stored = solver->total_water(), gone = solver->budget().evaporated;
     EXPECT_NEAR((stored + gone) / initial, 1.0, 1e-10) << "stored " << stored << " evaporated " << gone;
     EXPECT_EQ(solver->budget().clamped, 0.0);
   }
 }
+
+// At Bi = 10 the centre runs 0.02-0.06 ahead of the series (first-order surface: the
+// evaporating particles sit up to a cell inside the face); not fixed yet (issue 20).
+INSTANTIATE_TEST_SUITE_P(MassBiot, SlabDrying, ::testing::Values(1.0));
 
 TEST(MpmBaking, Co2GeneratedAtAHeldTemperatureMatchesTheRateLawAndRaisesTheBlock) {
   // A porous Cam-clay block held at θ = θ_r + Δθ/2 (body and air alike):
