@@ -186,6 +186,7 @@ PoreWater build_pore_water(const json& material) {
   p.vapour_diffusivity = w["vapour_diffusivity"].get<double>();
   p.tortuosity = w["tortuosity"].get<double>();
   p.liquid_diffusivity = w["liquid_diffusivity"].get<double>();
+  p.cell_heat_pipe = w["cell_heat_pipe"].get<double>();
   p.latent_heat = w["latent_heat"].get<double>();
   p.boiling_point = w["boiling_point"].get<double>();
   const json& s = w["sorption"];

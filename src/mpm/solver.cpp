@@ -54,6 +54,7 @@ MpmSolver::MpmSolver(Setup setup)
       grad_vapour_(particles_.add_vector("vapour_density_gradient", "kg/m^4", false)),
       vapour_src_(particles_.add_scalar("vapour_source", "kg/s", false)),
       vapour_vec_(particles_.add_vector("vapour_flux_term", "kg/s", false)),
+      cell_k_(particles_.add_scalar("cell_conductivity", "W/(m K)", false)),
       material_(particles_.add_int("material_id")),
       body_(particles_.add_int("body_id")),
       id_(particles_.add_int("id")) {
@@ -222,10 +223,15 @@ Real MpmSolver::max_stable_dt() {
   if (heat) {
     const Real scale = setup_.oven.bake_time_scale;
     for (const Material& mat : setup_.materials) {
-      if (s.heat == HeatMethod::explicit_ && mat.conductivity > 0)
-        limit(
-            mat.density * mat.specific_heat * dx_ * dx_ / (6 * mat.conductivity * std::max(acc.jmax, Real(1))) / scale,
-            "heat_conduction");
+      // With moisture the closed-cell heat pipe adds to κ, most near the boiling point.
+      const Real kappa = mat.conductivity + (!s.baseline && mat.moisture.active()
+                                                 ? mat.moisture.cell_conductivity(
+                                                       mat.moisture.boiling_point - 0.01, mat.moisture.moisture,
+                                                       mat.moisture.expanded_gas_fraction(std::max(acc.jmax, Real(1))))
+                                                 : 0);
+      if (s.heat == HeatMethod::explicit_ && kappa > 0)
+        limit(mat.density * mat.specific_heat * dx_ * dx_ / (6 * kappa * std::max(acc.jmax, Real(1))) / scale,
+              "heat_conduction");
       if (!s.baseline && mat.water.active() && mat.water.diffusivity > 0)
         limit(dx_ * dx_ / (6 * mat.water.diffusion_coefficient(std::max(acc.tmax, Real(100)))) / scale,
               "water_diffusion");
@@ -238,6 +244,9 @@ Real MpmSolver::max_stable_dt() {
         Real d = 0;
         for (const Real x : {pw.moisture, 0.5 * pw.moisture, 0.2 * pw.moisture, 0.05 * pw.moisture})
           d = std::max(d, pw.effective_diffusivity(theta, x, mat.density * mat.specific_heat, dry_density));
+        // Expanded dough: more gas, less heat capacity per volume.
+        const Real j = std::max(acc.jmax, Real(1));
+        d *= j * pw.expanded_gas_fraction(j) / std::max(pw.gas_fraction, Real(1e-6));
         if (d > 0) limit(dx_ * dx_ / (6 * d) / scale, "vapour_diffusion");
       }
     }

@@ -34,6 +34,15 @@ Real PoreWater::vapour_density(Real celsius, Real moisture_now) const {
   return p * kWaterMolarMass / (kGasConstant * (theta + kZeroCelsius));
 }
 
+Real PoreWater::cell_conductivity(Real celsius, Real moisture_now, Real phi) const {
+  if (!(cell_heat_pipe > 0) || !(moisture_now > 0) || !(celsius < boiling_point)) return 0;
+  const Real tk = std::max(celsius, Real(-50)) + kZeroCelsius;
+  const Real p = saturation_vapour_pressure(celsius), dp = saturation_vapour_pressure_slope(celsius);
+  const Real drho_sat = kWaterMolarMass / (kGasConstant * tk) * (dp - p / tk);  // d(p M / R T)/dθ
+  const Real free_diffusivity = vapour_diffusivity * std::pow(tk / 298.15, 1.75);
+  return cell_heat_pipe * phi * latent_heat * free_diffusivity * sorption.activity(moisture_now, celsius) * drho_sat;
+}
+
 Real PoreWater::effective_diffusivity(Real celsius, Real moisture_now, Real heat_capacity_density,
                                       Real dry_density) const {
   // ∂ρ_v/∂θ and ∂ρ_v/∂X by differences: the law is smooth, the bound only needs its size.
@@ -45,7 +54,12 @@ Real PoreWater::effective_diffusivity(Real celsius, Real moisture_now, Real heat
                      (x + dx - std::max(x - dx, Real(0)));
   const Real conductance = vapour_conductance(celsius);
   Real d = liquid_diffusion(celsius);
-  if (heat_capacity_density > 0) d = std::max(d, latent_heat * conductance * std::abs(dr_dt) / heat_capacity_density);
+  if (heat_capacity_density > 0) {
+    d = std::max(d, latent_heat * conductance * std::abs(dr_dt) / heat_capacity_density);
+    // The closed-cell heat pipe adds to the conduction (near the boiling point, where it is largest).
+    d = std::max(d,
+                 cell_conductivity(std::min(celsius, boiling_point - 0.01), x, gas_fraction) / heat_capacity_density);
+  }
   if (dry_density > 0) d = std::max(d, conductance * dr_dx / dry_density);
   return d;
 }

@@ -214,6 +214,7 @@ void SphSolver::seed_particles() {
     water_coefficients_.resize(total);
     water_change_.resize(total);
     step_book_.resize(total);
+    particle_k_.resize(total);
   }
   air_facing_.assign(total, 0);
   std::size_t k = 0;
@@ -366,29 +367,42 @@ std::vector<std::pair<std::string, Real>> SphSolver::time_step_bounds() const {
   if (e.a2 > 0) bounds.emplace_back("force", s.force_factor * std::sqrt(hs / std::sqrt(e.a2)));
   if (s.heat_conduction) {
     Real alpha = 0;  // thermal diffusivity k / (ρ c_p), largest over materials
-    for (const Material& m : setup_.materials)
-      alpha = std::max(alpha, m.conductivity / (m.rest_density * m.specific_heat));
+    for (const Material& m : setup_.materials) {
+      // With moisture the closed-cell heat pipe adds to k (largest near the boiling point, most gas at 0.95).
+      const Real k_cell = m.moisture.active()
+                              ? m.moisture.cell_conductivity(m.moisture.boiling_point - 0.01, m.moisture.moisture, 0.95)
+                              : 0;
+      alpha = std::max(alpha, (m.conductivity + k_cell) / (m.rest_density * m.specific_heat));
+    }
     alpha = setup_.oven.bake_step(alpha);  // heat runs on the bake clock
     if (alpha > 0) bounds.emplace_back("conduction", s.conduction_factor * hs * hs / alpha);
   }
   if (moist_) {
     // The vapour's coupled heat–water diffusivity at the hottest moist temperature
     // (physics/water.hpp), over the moistures a particle passes as it dries.
-    const Real tmax = deterministic_reduce(
-        x_.size(), Real(-1e300),
+    // The hottest particle and the most expanded (its gas fraction grows and its heat capacity per volume falls).
+    using Pair = std::pair<Real, Real>;
+    const auto [tmax, jmax] = deterministic_reduce(
+        x_.size(), Pair{-1e300, 1},
         [&](std::size_t b, std::size_t end) {
-          Real m = -1e300;
-          for (std::size_t i = b; i < end; ++i) m = std::max(m, temperature_[i]);
+          Pair m{-1e300, 1};
+          for (std::size_t i = b; i < end; ++i)
+            m = {std::max(m.first, temperature_[i]),
+                 std::max(m.second, setup_.materials[material_[i]].rest_density / rho_[i])};
           return m;
         },
-        [](Real a, Real b) { return std::max(a, b); });
+        [](Pair a, Pair b) {
+          return Pair{std::max(a.first, b.first), std::max(a.second, b.second)};
+        });
     Real d = 0;
     for (const Material& m : setup_.materials) {
       const PoreWater& pw = m.moisture;
       if (!pw.active()) continue;
       const Real theta = std::min(tmax, pw.boiling_point), dry = m.rest_density / (1 + pw.moisture);
+      Real dm = 0;
       for (const Real x : {pw.moisture, 0.5 * pw.moisture, 0.2 * pw.moisture, 0.05 * pw.moisture})
-        d = std::max(d, pw.effective_diffusivity(theta, x, m.rest_density * m.specific_heat, dry));
+        dm = std::max(dm, pw.effective_diffusivity(theta, x, m.rest_density * m.specific_heat, dry));
+      d = std::max(d, dm * jmax * pw.expanded_gas_fraction(jmax) / std::max(pw.gas_fraction, Real(1e-6)));
     }
     d = setup_.oven.bake_step(d);
     if (d > 0) bounds.emplace_back("vapour_diffusion", s.conduction_factor * hs * hs / d);

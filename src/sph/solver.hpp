@@ -144,11 +144,11 @@ class SphSolver final : public Solver {
   std::vector<Real> conductivity_;     // per material, read per neighbour pair in the heat phase
   std::vector<Real> bubble_b_;         // per body: B of Eq 3.48
   bool implicit_viscosity_ = false;
-  bool elastic_ = false;             // some material has a Maxwell stress (μ_e not identically 0)
-  bool heated_colliders_ = false;    // some collider carries a temperature
-  bool follows_peak_ = false;        // some material reads its curves at the peak temperature
-  bool adaptive_ = false;            // per-particle smoothing length (Eq 3.54–3.56)
-  Real colour_share_ = 1;             // V |∇C| / s² on a flat lattice face (kernels.hpp): exchange areas
+  bool elastic_ = false;           // some material has a Maxwell stress (μ_e not identically 0)
+  bool heated_colliders_ = false;  // some collider carries a temperature
+  bool follows_peak_ = false;      // some material reads its curves at the peak temperature
+  bool adaptive_ = false;          // per-particle smoothing length (Eq 3.54–3.56)
+  Real colour_share_ = 1;          // V |∇C| / s² on a flat lattice face (kernels.hpp): exchange areas
   ColliderTemperatures wall_temperatures_, mesh_temperatures_;  // at this step's bake time (heat phase)
   int viscosity_iterations_ = 0;
   Real exchanged_heat_ = 0.0;
@@ -166,6 +166,7 @@ class SphSolver final : public Solver {
   std::vector<std::array<Real, 2>> water_coefficients_, water_change_;  // per step: (vapour, liquid)
   std::vector<std::array<Real, 3>> step_book_;                          // per step: latent J, boiled kg, clamped kg
   std::vector<std::uint8_t> air_facing_;  // heat phase: this surface particle exchanges with the air
+  std::vector<Real> particle_k_;          // heat phase with moisture: k + the closed-cell heat pipe, W/(m K)
 
   ParticleSet particles_;
   std::vector<Vec3>& x_;

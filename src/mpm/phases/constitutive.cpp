@@ -110,12 +110,15 @@ void MpmSolver::phase_plasticity(Real dt) {
                             moisture_[i] = x;
                             vapour_density_[i] = rho_v;
                             vapour_src_[i] = -mass_transfer * (rho_v - air_vapour) * air_area_[i];
-                            vapour_vec_[i] = -(volume * pw.vapour_conductance(theta) * flux_scale) * grad_vapour_[i];
+                            const Real phi = pw.expanded_gas_fraction(j);  // risen dough holds more gas
+                            cell_k_[i] = pw.cell_conductivity(theta, x, phi);
+                            vapour_vec_[i] =
+                                -(volume * pw.vapour_conductance(theta, phi) * flux_scale) * grad_vapour_[i];
                           }
                         }
                         tau.diagonal().array() -= kirchhoff_pressure;
                         heat_src_[i] = SurfaceExchange{exchange_[i], exchange_t_[i]}.heat_rate(temperature_[i]);
-                        heat_vec_[i] = -(volume * mat.conductivity * flux_scale) * grad_theta_[i];
+                        heat_vec_[i] = -(volume * (mat.conductivity + cell_k_[i]) * flux_scale) * grad_theta_[i];
                       }
                       tau_diag_[i] = tau.diagonal();
                       tau_off_[i] = Vec3(tau(0, 1), tau(0, 2), tau(1, 2));

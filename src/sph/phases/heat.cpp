@@ -45,9 +45,22 @@ void SphSolver::phase_heat(Real dt) {
       const Real* hsup = smoothing_.data();
       const Real* temp = temperature_.data();
       const Real* vol = volume_.data();
+      // With moisture: the closed-cell heat pipe of moist dough adds to k (physics/water.hpp).
+      if (moist_)
+        parallel_for(
+            n,
+            [&](std::size_t i) {
+              const Material& mi = setup_.materials[material_[i]];
+              const PoreWater& pw = mi.moisture;
+              particle_k_[i] = mi.conductivity;
+              if (pw.active() && !setup_.bodies[body_[i]].hold_temperature)
+                particle_k_[i] +=
+                    pw.cell_conductivity(temp[i], (*moisture_)[i], pw.expanded_gas_fraction(mi.rest_density / rho_[i]));
+            },
+            4096);
       parallel_for(n, [&](std::size_t i) {
         const Material& mi = setup_.materials[material_[i]];
-        const Real ti = temp[i], ki = mi.conductivity;
+        const Real ti = temp[i], ki = moist_ ? particle_k_[i] : mi.conductivity;
         const std::uint32_t* nb = lists_.begin(i);
         const std::uint32_t count = lists_.count(i);
         const float* pr = lists_.distances(i);
@@ -57,7 +70,7 @@ void SphSolver::phase_heat(Real dt) {
           const std::uint32_t j = nb[k];
           const Real r = pr[k];
           // x_ij·∇W = r² W'(r)/r
-          const Real kj = conductivity_[material_[j]];
+          const Real kj = moist_ ? particle_k_[j] : conductivity_[material_[j]];
           const Real hij = 0.5 * (hsup[i] + hsup[j]);
           const Real eta2 = adaptive_ ? 0.01 * hij * hij : eta2_fixed;
           sum += pair_conduction(vol[j], ki, kj, ti, temp[j], Real(pd[k]), r, eta2);

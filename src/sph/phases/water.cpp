@@ -37,7 +37,9 @@ void SphSolver::phase_water(Real dt) {
         const Real x = water[i] * (1 + pw.moisture) / m_[i];
         moisture[i] = x;
         vapour[i] = pw.vapour_density(temperature_[i], x);
-        water_coefficients_[i] = {pw.vapour_conductance(temperature_[i]), pw.liquid_diffusion(temperature_[i])};
+        // Risen dough holds more gas: its expansion is ρ0/ρ.
+        const Real phi = pw.expanded_gas_fraction(setup_.materials[material_[i]].rest_density / rho_[i]);
+        water_coefficients_[i] = {pw.vapour_conductance(temperature_[i], phi), pw.liquid_diffusion(temperature_[i])};
       },
       4096);
   const Real eta2_fixed = 0.01 * h_ * h_;
