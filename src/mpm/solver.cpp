@@ -238,15 +238,8 @@ Real MpmSolver::max_stable_dt() {
       if (!s.baseline && mat.moisture.active()) {
         // The vapour's coupled heat–water diffusivity, largest at the hottest moist
         // temperature; over the moistures a particle passes through as it dries.
-        const PoreWater& pw = mat.moisture;
-        const Real theta = std::min(acc.tmax, pw.boiling_point);
-        const Real dry_density = mat.density / (1 + pw.moisture);
-        Real d = 0;
-        for (const Real x : {pw.moisture, 0.5 * pw.moisture, 0.2 * pw.moisture, 0.05 * pw.moisture})
-          d = std::max(d, pw.effective_diffusivity(theta, x, mat.density * mat.specific_heat, dry_density));
-        // Expanded dough: more gas, less heat capacity per volume.
-        const Real j = std::max(acc.jmax, Real(1));
-        d *= j * pw.expanded_gas_fraction(j) / std::max(pw.gas_fraction, Real(1e-6));
+        const Real d =
+            mat.moisture.step_diffusivity(acc.tmax, mat.density, mat.specific_heat, std::max(acc.jmax, Real(1)));
         if (d > 0) limit(dx_ * dx_ / (6 * d) / scale, "vapour_diffusion");
       }
     }

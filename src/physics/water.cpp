@@ -34,6 +34,15 @@ Real PoreWater::vapour_density(Real celsius, Real moisture_now) const {
   return p * kWaterMolarMass / (kGasConstant * (theta + kZeroCelsius));
 }
 
+Real PoreWater::step_diffusivity(Real hottest, Real density, Real specific_heat, Real volume_ratio) const {
+  const Real theta = std::min(hottest, boiling_point), dry = density / (1 + moisture);
+  Real d = 0;
+  for (const Real x : {moisture, 0.5 * moisture, 0.2 * moisture, 0.05 * moisture})
+    d = std::max(d, effective_diffusivity(theta, x, density * specific_heat, dry));
+  const Real j = std::max(volume_ratio, Real(1));
+  return d * j * expanded_gas_fraction(j) / std::max(gas_fraction, Real(1e-6));
+}
+
 Real PoreWater::cell_conductivity(Real celsius, Real moisture_now, Real phi) const {
   if (!(cell_heat_pipe > 0) || !(moisture_now > 0) || !(celsius < boiling_point)) return 0;
   const Real tk = std::max(celsius, Real(-50)) + kZeroCelsius;

@@ -94,6 +94,11 @@ struct PoreWater {
   // heat capacity per volume ρc (J/(m³K)) and dry density ρ_dry (kg/m³) sees
   // at θ and X, m²/s: the explicit step bound is Δx² / (2·dim·this).
   Real effective_diffusivity(Real celsius, Real moisture_now, Real heat_capacity_density, Real dry_density) const;
+  // What both solvers bound their step by: effective_diffusivity at the hottest
+  // moist temperature, over the moistures a drying particle passes (X₀ to
+  // X₀/20), for dough of rest density ρ and c_p expanded up to `volume_ratio`
+  // (more gas, less heat capacity per volume).
+  Real step_diffusivity(Real hottest, Real density, Real specific_heat, Real volume_ratio) const;
 };
 
 // The boiling cap on one particle: heat capacity C (J/K), its temperature

@@ -398,11 +398,7 @@ std::vector<std::pair<std::string, Real>> SphSolver::time_step_bounds() const {
     for (const Material& m : setup_.materials) {
       const PoreWater& pw = m.moisture;
       if (!pw.active()) continue;
-      const Real theta = std::min(tmax, pw.boiling_point), dry = m.rest_density / (1 + pw.moisture);
-      Real dm = 0;
-      for (const Real x : {pw.moisture, 0.5 * pw.moisture, 0.2 * pw.moisture, 0.05 * pw.moisture})
-        dm = std::max(dm, pw.effective_diffusivity(theta, x, m.rest_density * m.specific_heat, dry));
-      d = std::max(d, dm * jmax * pw.expanded_gas_fraction(jmax) / std::max(pw.gas_fraction, Real(1e-6)));
+      d = std::max(d, pw.step_diffusivity(tmax, m.rest_density, m.specific_heat, jmax));
     }
     d = setup_.oven.bake_step(d);
     if (d > 0) bounds.emplace_back("vapour_diffusion", s.conduction_factor * hs * hs / d);
