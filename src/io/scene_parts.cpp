@@ -187,6 +187,7 @@ PoreWater build_pore_water(const json& material) {
   p.tortuosity = w["tortuosity"].get<double>();
   p.liquid_diffusivity = w["liquid_diffusivity"].get<double>();
   p.cell_heat_pipe = w["cell_heat_pipe"].get<double>();
+  if (!w["dry_conductivity"].is_null()) p.dry_conductivity = w["dry_conductivity"].get<double>();
   p.latent_heat = w["latent_heat"].get<double>();
   p.boiling_point = w["boiling_point"].get<double>();
   const json& s = w["sorption"];

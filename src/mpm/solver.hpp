@@ -132,7 +132,7 @@ class MpmSolver final : public Solver {
   std::vector<Vec3>& grad_vapour_;     // ∇ρ_v from the grid, kg/m⁴
   std::vector<Real>& vapour_src_;      // −h_m (ρ_v − ρ_v,air) S_air, kg/s
   std::vector<Vec3>& vapour_vec_;      // V q_v · 4/Δx, kg/s
-  std::vector<Real>& cell_k_;          // the closed-cell heat pipe's conductivity, W/(m K)
+  std::vector<Real>& cell_k_;          // moisture's change of κ: heat pipe + drying, W/(m K)
   std::vector<std::int32_t>& material_;
   std::vector<std::int32_t>& body_;
   std::vector<std::int32_t>& id_;

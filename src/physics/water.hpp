@@ -20,6 +20,7 @@
 // and only dry dough (the crust) heats further.
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "core/types.hpp"
 #include "physics/constants.hpp"
@@ -56,14 +57,15 @@ struct SorptionIsotherm {
 
 // The material's water: the parameters of the law above.
 struct PoreWater {
-  Real moisture = 0;                    // initial X₀, kg/kg dry; 0: no water
-  Real liquid_diffusivity = 0;          // D_w at 100 °C, m²/s; D_w(θ) = D_w θ⁺ / 100 °C
-  Real vapour_diffusivity = 2.6e-5;     // D_v of vapour in the pore gas at 25 °C, m²/s
-  Real tortuosity = 1;                  // τ: the effective D is φ_g D_v (T_K / 298.15)^1.75 / τ
-  Real gas_fraction = 0.6;              // φ_g, volume fraction of gas in the dough
-  Real cell_heat_pipe = 1;              // share of the closed-cell heat pipe (below), 0–1
-  Real latent_heat = kLatentHeatAt100;  // h_fg, J/kg
-  Real boiling_point = 100;             // θ_b, °C
+  Real moisture = 0;                     // initial X₀, kg/kg dry; 0: no water
+  Real liquid_diffusivity = 0;           // D_w at 100 °C, m²/s; D_w(θ) = D_w θ⁺ / 100 °C
+  Real vapour_diffusivity = 2.6e-5;      // D_v of vapour in the pore gas at 25 °C, m²/s
+  Real tortuosity = 1;                   // τ: the effective D is φ_g D_v (T_K / 298.15)^1.75 / τ
+  Real gas_fraction = 0.6;               // φ_g, volume fraction of gas in the dough
+  Real cell_heat_pipe = 1;               // share of the closed-cell heat pipe (below), 0–1
+  std::optional<Real> dry_conductivity;  // k of the dried dough (crust), W/(m K); none: the material's
+  Real latent_heat = kLatentHeatAt100;   // h_fg, J/kg
+  Real boiling_point = 100;              // θ_b, °C
   SorptionIsotherm sorption;
 
   bool active() const { return moisture > 0; }
@@ -89,6 +91,14 @@ struct PoreWater {
   // diffusivity (no tortuosity: the vapour crosses one cell). Added to the
   // conductivity of moist dough below the boiling point.
   Real cell_conductivity(Real celsius, Real moisture_now, Real phi) const;
+  // The conductivity change of dough that has dried from X₀ to X, W/(m K):
+  // linear from the material's k (moist) to dry_conductivity (dry), so a crust
+  // insulates the crumb (shared/spec: 0.2–0.4 crumb, 0.05–0.1 crust).
+  Real drying_conductivity_change(Real conductivity, Real moisture_now) const {
+    if (!dry_conductivity || !(moisture > 0)) return 0;
+    const Real dried = std::clamp(1 - moisture_now / moisture, Real(0), Real(1));
+    return dried * (*dry_conductivity - conductivity);
+  }
   Real liquid_diffusion(Real celsius) const { return liquid_diffusivity * std::max(celsius, Real(0)) / 100.0; }
   // Largest diffusivity of the coupled heat–water system a particle of
   // heat capacity per volume ρc (J/(m³K)) and dry density ρ_dry (kg/m³) sees

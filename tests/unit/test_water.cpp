@@ -89,3 +89,34 @@ TEST(Water, TheStepBoundsDiffusivityGrowsTowardsTheBoilingPoint) {
   EXPECT_GT(k_vapour, 0.2);
   EXPECT_LT(k_vapour, 3.0);
 }
+
+TEST(Water, CellHeatPipeIsTheVapourConductivityAcrossACellAndStopsWhenDryOrBoiling) {
+  PoreWater w;
+  w.moisture = 0.54;
+  const double phi = 0.6, theta = 90;
+  // φ h_fg D(θ) a_w dρ_sat/dθ by hand: ideal-gas vapour at the Antoine pressure.
+  const double tk = theta + 273.15, p = saturation_vapour_pressure(theta), dp = saturation_vapour_pressure_slope(theta);
+  const double drho = 0.018015 / (8.314462618 * tk) * (dp - p / tk);
+  const double expected =
+      phi * 2.257e6 * 2.6e-5 * std::pow(tk / 298.15, 1.75) * w.sorption.activity(0.54, theta) * drho;
+  EXPECT_NEAR(w.cell_conductivity(theta, 0.54, phi), expected, 1e-12 * expected);
+  EXPECT_GT(expected, 0.3);  // several times a crumb's 0.2 W/(m K) near 90 degC
+  EXPECT_EQ(w.cell_conductivity(100, 0.54, phi), 0.0);
+  EXPECT_EQ(w.cell_conductivity(90, 0, phi), 0.0);
+  w.cell_heat_pipe = 0;
+  EXPECT_EQ(w.cell_conductivity(theta, 0.54, phi), 0.0);
+}
+
+TEST(Water, DriedDoughConductsLikeTheCrustAndGasGrowsWithExpansion) {
+  PoreWater w;
+  w.moisture = 0.8;
+  EXPECT_EQ(w.drying_conductivity_change(0.4, 0.4), 0.0);  // no dry value given: k stays
+  w.dry_conductivity = 0.1;
+  EXPECT_NEAR(w.drying_conductivity_change(0.4, 0.8), 0.0, 1e-15);
+  EXPECT_NEAR(w.drying_conductivity_change(0.4, 0.4), -0.15, 1e-15);
+  EXPECT_NEAR(w.drying_conductivity_change(0.4, 0.0), -0.3, 1e-15);
+  w.gas_fraction = 0.1;
+  EXPECT_NEAR(w.expanded_gas_fraction(1.0), 0.1, 1e-15);
+  EXPECT_NEAR(w.expanded_gas_fraction(3.0), 0.7, 1e-15);  // the doubled volume is gas
+  EXPECT_NEAR(w.expanded_gas_fraction(100.0), 0.95, 1e-15);
+}

@@ -111,7 +111,8 @@ void MpmSolver::phase_plasticity(Real dt) {
                             vapour_density_[i] = rho_v;
                             vapour_src_[i] = -mass_transfer * (rho_v - air_vapour) * air_area_[i];
                             const Real phi = pw.expanded_gas_fraction(j);  // risen dough holds more gas
-                            cell_k_[i] = pw.cell_conductivity(theta, x, phi);
+                            cell_k_[i] = pw.cell_conductivity(theta, x, phi) +
+                                         pw.drying_conductivity_change(mat.conductivity, x);
                             vapour_vec_[i] =
                                 -(volume * pw.vapour_conductance(theta, phi) * flux_scale) * grad_vapour_[i];
                           }

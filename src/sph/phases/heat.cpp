@@ -54,8 +54,9 @@ void SphSolver::phase_heat(Real dt) {
               const PoreWater& pw = mi.moisture;
               particle_k_[i] = mi.conductivity;
               if (pw.active() && !setup_.bodies[body_[i]].hold_temperature)
-                particle_k_[i] +=
-                    pw.cell_conductivity(temp[i], (*moisture_)[i], pw.expanded_gas_fraction(mi.rest_density / rho_[i]));
+                particle_k_[i] += pw.cell_conductivity(temp[i], (*moisture_)[i],
+                                                       pw.expanded_gas_fraction(mi.rest_density / rho_[i])) +
+                                  pw.drying_conductivity_change(mi.conductivity, (*moisture_)[i]);
             },
             4096);
       parallel_for(n, [&](std::size_t i) {
