@@ -68,7 +68,7 @@ mpm::Material build_material(const Ctx& c, const std::string& name, const json& 
     if (wj["diffusivity"].get<double>() != 1e-8)
       c.fail(mpath + ".water.diffusivity", "with moisture.content the liquid diffuses by moisture.liquid_diffusivity");
     const PoreWater& pw = mat.moisture;
-    mat.water.saturation = pw.moisture / (1 + pw.moisture) * mat.density / mat.water.water_density;
+    mat.water.saturation = pw.initial_water(mat.density) / mat.water.water_density;
     if (mat.water.saturation > 1)
       c.fail(
           mpath + ".moisture.content",

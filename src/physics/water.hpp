@@ -69,6 +69,9 @@ struct PoreWater {
   SorptionIsotherm sorption;
 
   bool active() const { return moisture > 0; }
+  // Dry basis: a particle of mass m is dry solid and water, m_w = m X₀ / (1 + X₀) at the start.
+  Real initial_water(Real mass) const { return mass * moisture / (1 + moisture); }
+  Real moisture_of(Real water, Real mass) const { return water * (1 + moisture) / mass; }
   // Equilibrium vapour density in the pore gas, kg/m³, never above the boiling point's.
   Real vapour_density(Real celsius, Real moisture_now) const;
   // The gas fraction of dough that has expanded to `volume_ratio` times its
@@ -126,6 +129,23 @@ inline Boiling boil(Real heat_capacity, Real temperature, Real water, Real boili
   const Real excess = heat_capacity * (temperature - boiling_point);
   const Real boiled = std::min(water, excess / latent_heat);
   return {boiling_point + (excess - boiled * latent_heat) / heat_capacity, water - boiled, boiled};
+}
+
+// One particle's phase change after its water moved: `vapour_gain` kg arrived
+// as vapour (< 0: left as vapour) and condenses (evaporates) there, giving
+// (taking) h_fg; then the boiling cap on the water it now holds. `latent` is
+// the energy the water took with it, J (C θ_in = C θ_out + latent).
+struct PhaseChange {
+  Real temperature;
+  Real water;
+  Real boiled;
+  Real latent;
+};
+inline PhaseChange condense_and_boil(const PoreWater& pw, Real heat_capacity, Real temperature, Real water,
+                                     Real vapour_gain) {
+  const Real heated = temperature + pw.latent_heat * vapour_gain / heat_capacity;
+  const Boiling b = boil(heat_capacity, heated, water, pw.boiling_point, pw.latent_heat);
+  return {b.temperature, b.water, b.boiled, pw.latent_heat * (b.boiled - vapour_gain)};
 }
 
 // Surface mass transfer coefficient h_m (m/s) from the heat transfer

@@ -240,9 +240,8 @@ void SphSolver::seed_particles() {
       peak_temperature_[k] = b.temperature;
       if (moist_) {
         // The particle is dry solid and water: m_w = m X₀ / (1 + X₀).
-        const Real x0 = mat.moisture.moisture;
-        (*water_)[k] = m_[k] * x0 / (1 + x0);
-        (*moisture_)[k] = x0;
+        (*water_)[k] = mat.moisture.initial_water(m_[k]);
+        (*moisture_)[k] = mat.moisture.moisture;
       }
       smoothing_[k] = h_;
       material_[k] = b.material;

@@ -120,3 +120,21 @@ TEST(Water, DriedDoughConductsLikeTheCrustAndGasGrowsWithExpansion) {
   EXPECT_NEAR(w.expanded_gas_fraction(3.0), 0.7, 1e-15);  // the doubled volume is gas
   EXPECT_NEAR(w.expanded_gas_fraction(100.0), 0.95, 1e-15);
 }
+
+TEST(Water, CondensingVapourGivesItsLatentHeatBeforeTheBoilingCap) {
+  PoreWater w;
+  w.moisture = 0.5;
+  EXPECT_NEAR(w.initial_water(3.0), 1.0, 1e-15);  // 3 kg of dough at X0 = 0.5: 2 kg solid, 1 kg water
+  EXPECT_NEAR(w.moisture_of(1.0, 3.0), 0.5, 1e-15);
+  const double c = 2.0;
+  // 1 g condenses at 99 degC: it would heat the particle far past 100, so most of it boils off again.
+  const PhaseChange p = condense_and_boil(w, c, 99, 0.01, 1e-3);
+  EXPECT_EQ(p.temperature, 100.0);
+  EXPECT_NEAR(c * 99 - p.latent, c * p.temperature, 1e-9);  // energy: what the water took is the latent term
+  EXPECT_NEAR(p.boiled, (w.latent_heat * 1e-3 - c * 1) / w.latent_heat, 1e-15);
+  // Evaporating 1 mg cools it by h_fg 1e-6 / C; nothing boils below 100.
+  const PhaseChange q = condense_and_boil(w, c, 60, 0.01, -1e-6);
+  EXPECT_NEAR(q.temperature, 60 - w.latent_heat * 1e-6 / c, 1e-12);
+  EXPECT_EQ(q.boiled, 0.0);
+  EXPECT_NEAR(q.latent, w.latent_heat * 1e-6, 1e-12);
+}

@@ -105,7 +105,7 @@ void MpmSolver::phase_plasticity(Real dt) {
                             // physics/water.hpp: the vapour in equilibrium with the moisture,
                             // its flux through the pores and what leaves through the surface.
                             const PoreWater& pw = mat.moisture;
-                            const Real x = water_[i] * (1 + pw.moisture) / m_[i];
+                            const Real x = pw.moisture_of(water_[i], m_[i]);
                             const Real rho_v = pw.vapour_density(theta, x);
                             moisture_[i] = x;
                             vapour_density_[i] = rho_v;

@@ -127,12 +127,11 @@ void MpmSolver::g2p(Real dt) {
             const PoreWater& pw = setup_.materials[material_[p]].moisture;
             Real latent = 0;
             if (pw.active()) {
-              temperature_[p] += pw.latent_heat * vapour_gain / heat_capacity_[p];
-              const Boiling b = boil(heat_capacity_[p], temperature_[p], water_[p], pw.boiling_point, pw.latent_heat);
-              temperature_[p] = b.temperature;
-              water_[p] = b.water;
-              latent = pw.latent_heat * (b.boiled - vapour_gain);
-              boiled_step_[p] = b.boiled;
+              const PhaseChange c = condense_and_boil(pw, heat_capacity_[p], temperature_[p], water_[p], vapour_gain);
+              temperature_[p] = c.temperature;
+              water_[p] = c.water;
+              latent = c.latent;
+              boiled_step_[p] = c.boiled;
             }
             latent_step_[p] = latent;
           }

@@ -34,7 +34,7 @@ void SphSolver::phase_water(Real dt) {
           vapour[i] = 0, water_coefficients_[i] = {0, 0};
           return;
         }
-        const Real x = water[i] * (1 + pw.moisture) / m_[i];
+        const Real x = pw.moisture_of(water[i], m_[i]);
         moisture[i] = x;
         vapour[i] = pw.vapour_density(temperature_[i], x);
         // Risen dough holds more gas: its expansion is ρ0/ρ.
@@ -80,13 +80,11 @@ void SphSolver::phase_water(Real dt) {
         const Real capacity = m_[i] * setup_.materials[material_[i]].specific_heat;
         Real w = water[i] + vapour_gain + liquid_gain, clamped = 0;
         if (w < 0) clamped = -w, w = 0;  // asked for more than the particle held: not removed
-        temperature_[i] += pw.latent_heat * vapour_gain / capacity;
-        const Boiling b = boil(capacity, temperature_[i], w, pw.boiling_point, pw.latent_heat);
-        temperature_[i] = b.temperature;
-        water[i] = b.water;
-        moisture[i] = water[i] * (1 + pw.moisture) / m_[i];
-        // Surface loss is the vapour the particle's pairs did not account for.
-        step_book_[i] = {pw.latent_heat * (b.boiled - vapour_gain), b.boiled, clamped};
+        const PhaseChange c = condense_and_boil(pw, capacity, temperature_[i], w, vapour_gain);
+        temperature_[i] = c.temperature;
+        water[i] = c.water;
+        moisture[i] = pw.moisture_of(water[i], m_[i]);
+        step_book_[i] = {c.latent, c.boiled, clamped};
       },
       4096);
   const Real latent = deterministic_sum(n, [&](std::size_t i) { return step_book_[i][0]; });
