@@ -24,6 +24,7 @@
 #include "sweep.hpp"
 #include "core/errors.hpp"
 #include "core/progress.hpp"
+#include "io/bake_run.hpp"
 #include "io/checkpoint.hpp"
 #include "io/files.hpp"
 #include "io/materials.hpp"
@@ -100,43 +101,15 @@ int command_validate(const std::string& path, const std::vector<std::string>& se
 
 int command_run(const RunArgs& a) {
   // A resumed run reads its resolved scene and newest valid checkpoint.
-  std::optional<Checkpoint> checkpoint;
-  std::vector<std::string> refused;
-  fs::path checkpoint_file;
+  std::optional<ResumePoint> resume;
   Scene scene;
   std::string scene_dir;
   RunDirectoryLock lock;
   if (!a.resume.empty()) {
-    const fs::path dir = a.resume;
-    if (!fs::is_regular_file(dir / "scene.json")) throw InputError(a.resume, "not a run directory (no scene.json)");
-    lock = claim_existing_run(dir);
-    // The newest checkpoint of this run's scene that decodes; damaged or foreign ones are passed over.
-    std::string run_fingerprint;
-    try {
-      run_fingerprint = scene_fingerprint(nlohmann::json::parse(read_file(dir / "scene.json")));
-    } catch (const nlohmann::json::exception& e) {
-      throw InputError((dir / "scene.json").string(), std::string("not valid JSON: ") + e.what());
-    }
-    for (const auto& file : list_checkpoints(dir)) {
-      try {
-        Checkpoint candidate = decode_checkpoint(read_file(file), file.string());
-        if (candidate.scene_fingerprint != run_fingerprint)
-          throw InputError(file.string(), "checkpoint of a different scene than " + (dir / "scene.json").string());
-        checkpoint = std::move(candidate);
-        checkpoint_file = file;
-        break;
-      } catch (const InputError& e) {
-        refused.push_back(e.what());
-      }
-    }
-    if (!checkpoint)
-      throw InputError(a.resume, refused.empty() ? "has no checkpoint to resume from (checkpoints/*.ckpt)"
-                                                 : "no valid checkpoint: " + refused.front());
-    scene_dir = checkpoint->scene_dir;
-    scene = parse_scene(read_file(dir / "scene.json"), (dir / "scene.json").string(), scene_dir);
-    if (scene_fingerprint(scene.resolved) != checkpoint->scene_fingerprint)
-      throw InputError(checkpoint_file.string(),
-                       "checkpoint of a different scene than " + (dir / "scene.json").string());
+    resume = open_resume(a.resume);
+    lock = std::move(resume->lock);
+    scene = std::move(resume->scene);
+    scene_dir = resume->scene_dir;
   } else {
     scene = load_scene(a.scene, parse_overrides(a.sets), a.preview);
     scene_dir = fs::absolute(fs::path(a.scene)).parent_path().string();
@@ -176,46 +149,14 @@ int command_run(const RunArgs& a) {
   }
   L.info("{} particles; output in {}", solver->particles().size(), out.string());
   RunOutput output(out, scene, *solver, log);
-  FrameLoopConfig cfg;
-  cfg.end_time = scene.end_time;
-  cfg.fps = scene.fps;
-  cfg.min_dt = scene.resolved["solver"]["min_dt"].get<double>();
-  // A bake (heat, and at least a minute of oven): the bar counts minutes of oven and the summary says what it did.
-  const bool baking = solver->heats() && scene.oven.bake_time(scene.end_time) >= 60;
-  if (baking) cfg.bake_time_scale = scene.oven.bake_time_scale;
-  for (const auto& r : refused) L.warn("refused checkpoint: {}", r);
-  if (checkpoint) {
-    restore_checkpoint(*solver, *checkpoint, checkpoint_file.string());
-    output.resume_after(checkpoint->frame, checkpoint->follow_ids);
-    cfg.start_frame = checkpoint->frame;
-    cfg.start_steps = checkpoint->steps;
-    cfg.start_last_dt = checkpoint->last_dt;
-    L.info("resumed from {} (frame {}, t = {:.6g} s, {} steps)", checkpoint_file.string(), checkpoint->frame,
-           solver->time(), checkpoint->steps);
+  FrameLoopConfig cfg = frame_loop_config(scene, *solver);
+  const bool baking = is_bake(scene, *solver);
+  if (resume) {
+    for (const auto& r : resume->refused) L.warn("refused checkpoint: {}", r);
+    resume_from(*solver, output, cfg, resume->checkpoint, resume->checkpoint_file.string());
+    L.info("resumed from {} (frame {}, t = {:.6g} s, {} steps)", resume->checkpoint_file.string(),
+           resume->checkpoint.frame, solver->time(), resume->checkpoint.steps);
   }
-  const auto& ck = scene.resolved["output"]["checkpoint"];
-  const int every_frames = a.checkpoint_frames >= 0 ? a.checkpoint_frames : ck["every_frames"].get<int>();
-  const double every_minutes = a.checkpoint_minutes >= 0 ? a.checkpoint_minutes : ck["every_minutes"].get<double>();
-  const std::string fingerprint = scene_fingerprint(scene.resolved);
-  Stopwatch since_checkpoint;
-  auto make_checkpoint = [&](const FrameInfo& info, const Solver& s) {
-    Checkpoint c = capture_checkpoint(s);
-    c.scene_fingerprint = fingerprint;
-    c.scene_dir = scene_dir;
-    c.frame = info.frame;
-    c.steps = info.steps;
-    c.last_dt = info.last_dt;
-    c.follow_ids = output.follow_ids();
-    return c;
-  };
-  auto save = [&](const Checkpoint& c) {
-    const fs::path file = write_checkpoint(out, c);
-    L.info("checkpoint {} (frame {})", file.string(), c.frame);
-    since_checkpoint.restart();
-  };
-  // The state of the last complete frame stays in memory, so a step that fails
-  // leaves a checkpoint just before its frame (a copy of the particles per frame).
-  std::optional<Checkpoint> last_good;
   const int total_frames = std::max(1, static_cast<int>(std::ceil(scene.end_time * scene.fps - 1e-9)));
   ProgressBar progress(stderr, !a.quiet);
   // Pictures while the run goes: the first frame, the last, and between them
@@ -243,58 +184,20 @@ int command_run(const RunArgs& a) {
       L.warn("no picture of frame {}: {}", frame, e.what());
     }
   };
-  cfg.after_frame = [&](const FrameInfo& info, const Solver& s) {
+  BakeIntoOptions bake_options;
+  bake_options.scene_dir = scene_dir;
+  bake_options.cadence = checkpoint_cadence(scene, a.checkpoint_frames, a.checkpoint_minutes);
+  bake_options.after_frame = [&](const FrameInfo& info, const Solver&) {
     if (pictures && fs::exists(out / "frames" / (frame_stem(info.frame) + ".ply")) &&
         (drawn.empty() || info.frame == total_frames ||
          since_picture.seconds() >= std::max(20.0, 10 * picture_seconds)))
       draw(info.frame);
     if (baking) progress.set_note(output.progress_note());
-    const bool stop = g_stop_signal.load() != 0;
-    const bool due = (every_frames > 0 && info.frame > 0 && info.frame % every_frames == 0) ||
-                     (every_minutes > 0 && since_checkpoint.seconds() >= 60.0 * every_minutes);
-    if (info.frame < total_frames) {
-      last_good = make_checkpoint(info, s);
-      if (due || stop) save(*last_good);
-    }
-    return !stop;
+    return g_stop_signal.load() == 0;
   };
   g_stop_signal = 0;
   for (const int sig : {SIGINT, SIGTERM, SIGHUP}) std::signal(sig, on_stop_signal);
-  RunSummary s;
-  try {
-    s = run_frames(*solver, cfg, output, progress, L);
-  } catch (const SimulationError& e) {
-    progress.finish();
-    L.error("{}", e.what());
-    if (last_good) {
-      const fs::path file = write_checkpoint(out, *last_good, 3);
-      L.error("the state of frame {}, the last complete one, is in {}: resume with bakesim run --resume {}",
-              last_good->frame, file.string(), out.string());
-    }
-    L.error("frames up to the last complete one are in {}", out.string());
-    output.flush_log();
-    throw;
-  } catch (const IoError& e) {
-    // A full disk, a file-size limit, a read-only file system: keep what can be kept.
-    progress.finish();
-    L.error("{}", e.what());
-    std::string kept;
-    try {
-      if (last_good) {
-        const fs::path file = write_checkpoint(out, *last_good, 3);
-        kept = fmt::format("; the state of frame {} is in {}: resume with bakesim run --resume {}", last_good->frame,
-                           file.string(), out.string());
-      }
-    } catch (const IoError& again) {
-      L.error("no checkpoint either: {}", again.what());
-    }
-    try {
-      L.error("frames up to the last complete one are in {}{}", out.string(), kept);
-      output.flush_log();
-    } catch (const IoError&) {
-    }
-    throw IoError(std::string(e.what()) + kept);
-  }
+  const RunSummary s = bake_into(*solver, scene, output, cfg, bake_options, progress, L);
   for (const int sig : {SIGINT, SIGTERM, SIGHUP}) std::signal(sig, SIG_DFL);
   if (s.stopped) {
     const int sig = g_stop_signal.load();
@@ -360,31 +263,16 @@ std::optional<std::pair<Real, Real>> parse_range(const std::string& s, const std
 int command_mesh(const MeshArgs& a) {
   const int threads = a.threads > 0 ? a.threads : static_cast<int>(tbb::info::default_concurrency());
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
-  const RunDirectory run = open_run(a.run_dir);
-  if (run.frames.empty()) throw InputError(a.run_dir, "has no particle frames (frames/NNNNN.ply) to mesh");
-  // meshes/ is the run's own folder: not while a run (or another mesh command) writes there.
-  const RunDirectoryLock lock = claim_existing_run(a.run_dir);
-  const RunGeometry geometry = run_geometry(run.scene);
   MeshSettings settings;
   settings.surface.method = surface::parse_surface_method(a.method);
   settings.surface.voxel_ratio = a.voxel_ratio;
   settings.colour = a.colour;
   settings.range = parse_range(a.range, "mesh --range");
-  std::vector<int> frames = a.frames;
-  if (frames.empty())
-    for (const auto& [f, path] : run.frames) frames.push_back(f);
   Stopwatch clock;
-  std::size_t triangles = 0;
-  for (int f : frames) {
-    if (!run.frames.count(f)) throw InputError("mesh --frame", fmt::format("{} has no frame {}", a.run_dir, f));
-    const surface::SurfaceMesh mesh = frame_mesh(read_particle_frame(run.frames.at(f)), geometry, settings);
-    const surface::MeshQuality q = surface::check_mesh(mesh);
-    write_frame_mesh(run.dir / "meshes", f, mesh, settings);
-    triangles += mesh.triangles.size();
-    if (!q.closed_and_oriented())
-      fmt::print(stderr, "bakesim: warning: frame {} mesh has {} open, {} non-manifold and {} misoriented edges\n", f,
-                 q.boundary_edges, q.non_manifold_edges, q.misoriented_edges);
-  }
+  const MeshRunResult r = mesh_run(a.run_dir, settings, a.frames);
+  for (const auto& w : r.warnings) fmt::print(stderr, "bakesim: warning: {}\n", w);
+  const auto& frames = r.frames;
+  const std::size_t triangles = r.triangles;
   fmt::print(stderr, "bakesim: meshed {} frames ({} method, {} triangles in all) in {} into {}/meshes/\n",
              frames.size(), a.method, triangles, format_duration(clock.seconds()), a.run_dir);
   return kExitOk;
@@ -549,6 +437,9 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   sweep->add_flag("--quiet,-q", sweep_args.quiet, "No progress lines or table");
   sweep->add_flag("--preview", sweep_args.preview, "Every run as run --preview (a quick look at the grid)");
+  sweep->add_option("--dask", sweep_args.dask,
+                    "Run the grid on Dask through the Python module: 'local' (a LocalCluster on this machine) or "
+                    "a scheduler's address (tcp://HOST:8786); docs/python.md");
 
   std::string report_dir;
   render::ReportOptions report_opt;

@@ -92,7 +92,38 @@ int frames_written(const fs::path& dir) {
 
 }  // namespace
 
+namespace {
+// `--dask`: the same sweep handed to the Python module, which runs it on a
+// dask.distributed cluster. The module is found next to this executable in
+// a build tree (build/app/bakesim, build/python/bakesim) or where
+// `cmake --install` put it.
+int sweep_on_dask(const SweepArgs& a, const std::string& self) {
+  const char* python = "/usr/bin/python3";
+  std::vector<std::string> argv = {python, "-m", "bakesim", "sweep", a.scene, "--scheduler", a.dask};
+  for (const auto& s : a.sets) argv.insert(argv.end(), {"--set", s});
+  if (!a.out.empty()) argv.insert(argv.end(), {"--out", a.out});
+  if (a.threads > 0) argv.insert(argv.end(), {"--threads", std::to_string(a.threads)});
+  if (a.end_time > 0) argv.insert(argv.end(), {"--end-time", fmt::format("{:.17g}", a.end_time)});
+  if (a.preview) argv.push_back("--preview");
+  if (a.quiet) argv.push_back("--quiet");
+  const fs::path build_tree = fs::path(self).parent_path().parent_path() / "python";
+  std::error_code ec;
+  if (fs::is_regular_file(build_tree / "bakesim" / "__init__.py", ec)) {
+    const char* old = std::getenv("PYTHONPATH");
+    const std::string path = build_tree.string() + (old && *old ? std::string(":") + old : "");
+    ::setenv("PYTHONPATH", path.c_str(), 1);
+  }
+  std::vector<char*> args;
+  for (auto& s : argv) args.push_back(s.data());
+  args.push_back(nullptr);
+  ::execv(python, args.data());
+  throw IoError(std::string("sweep --dask: cannot start ") + python + ": " + std::strerror(errno) +
+                " (Debian: python3, python3-distributed, and the bakesim module: docs/python.md)");
+}
+}  // namespace
+
 int command_sweep(const SweepArgs& a, const std::string& self) {
+  if (!a.dask.empty()) return sweep_on_dask(a, self);
   std::vector<SweepAxis> axes;
   for (const auto& s : a.sets) axes.push_back(parse_sweep_axis(s));
   const std::vector<SweepPoint> points = sweep_points(axes);

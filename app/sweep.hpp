@@ -18,6 +18,9 @@ struct SweepArgs {
   double end_time = -1;
   bool quiet = false;
   bool preview = false;  // every run as run --preview
+  // "local" or a Dask scheduler's address: the sweep runs on Dask through the
+  // Python module (python3 -m bakesim sweep) instead of as local processes.
+  std::string dask;
 };
 
 // Returns the exit code: 0 when every run finished, 1 when one failed, 128+N when stopped by signal N.

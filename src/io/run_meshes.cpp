@@ -11,6 +11,7 @@
 #include "io/files.hpp"
 #include "io/mesh_files.hpp"
 #include "io/ply_reader.hpp"
+#include "io/run_directory.hpp"
 
 namespace bakesim {
 
@@ -157,6 +158,29 @@ RunDirectory open_run(const fs::path& dir) {
 ParticleSet read_particle_frame(const fs::path& ply) {
   const std::string bytes = read_file(ply);
   return particles_from_ply(parse_ply(bytes, ply.string()), ply.string());
+}
+
+MeshRunResult mesh_run(const fs::path& dir, const MeshSettings& settings, std::vector<int> frames) {
+  const RunDirectory run = open_run(dir);
+  if (run.frames.empty()) throw InputError(dir.string(), "has no particle frames (frames/NNNNN.ply) to mesh");
+  // meshes/ is the run's own folder: not while a run (or another mesh command) writes there.
+  const RunDirectoryLock lock = claim_existing_run(dir);
+  const RunGeometry geometry = run_geometry(run.scene);
+  if (frames.empty())
+    for (const auto& [f, path] : run.frames) frames.push_back(f);
+  MeshRunResult result;
+  for (int f : frames) {
+    if (!run.frames.count(f)) throw InputError("mesh --frame", fmt::format("{} has no frame {}", dir.string(), f));
+    const surface::SurfaceMesh mesh = frame_mesh(read_particle_frame(run.frames.at(f)), geometry, settings);
+    const surface::MeshQuality q = surface::check_mesh(mesh);
+    write_frame_mesh(run.dir / "meshes", f, mesh, settings);
+    result.frames.push_back(f);
+    result.triangles += mesh.triangles.size();
+    if (!q.closed_and_oriented())
+      result.warnings.push_back(fmt::format("frame {} mesh has {} open, {} non-manifold and {} misoriented edges", f,
+                                            q.boundary_edges, q.non_manifold_edges, q.misoriented_edges));
+  }
+  return result;
 }
 
 }  // namespace bakesim

@@ -57,4 +57,13 @@ struct RunDirectory {
 RunDirectory open_run(const std::filesystem::path& dir);  // InputError when it is not a run directory
 ParticleSet read_particle_frame(const std::filesystem::path& ply);
 
+// `bakesim mesh RUN_DIR`: meshes `frames` (all the run's frames when empty)
+// into RUN_DIR/meshes/, holding the run directory's lock while it writes.
+struct MeshRunResult {
+  std::vector<int> frames;
+  std::size_t triangles = 0;
+  std::vector<std::string> warnings;  // frames whose mesh is not closed and oriented
+};
+MeshRunResult mesh_run(const std::filesystem::path& dir, const MeshSettings& settings, std::vector<int> frames = {});
+
 }  // namespace bakesim

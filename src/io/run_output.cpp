@@ -101,9 +101,132 @@ Vec3 up_direction(const Scene& scene) {
 }
 }  // namespace
 
-RunOutput::RunOutput(fs::path dir, const Scene& scene, const Solver& solver, RunLog& log)
-    : dir_(std::move(dir)), scene_(scene), log_(log) {
+FrameRecorder::FrameRecorder(const Scene& scene, const Solver& solver) : scene_(scene) {
   if (solver.heats()) bake_.emplace(solver.particles(), scene.bodies.size());
+  columns_ = {"time",
+              "steps",
+              "dt",
+              "particles",
+              "kinetic_energy",
+              "max_speed",
+              "min_x",
+              "min_y",
+              "min_z",
+              "max_x",
+              "max_y",
+              "max_z",
+              "mean_temperature",
+              "min_temperature",
+              "max_temperature",
+              "air_temperature",
+              "wall_time",
+              "bake_time"};
+  for (const auto& b : scene_.bodies) {
+    if (b.hold_temperature) continue;
+    columns_.push_back("volume:" + b.name);
+    columns_.push_back("height:" + b.name);
+  }
+  for (const auto& p : scene_.probes)
+    for (const auto& q : p.quantities) columns_.push_back(fmt::format("probe:{}:{}", p.name, q));
+  if (bake_)
+    for (const auto& b : scene_.bodies)
+      if (!b.hold_temperature)
+        for (const std::string& c : bake_->columns(b.name)) columns_.push_back(c);
+}
+
+void FrameRecorder::resume(std::vector<std::int32_t> follow_ids, std::vector<Real> first_volume) {
+  follow_ids_ = std::move(follow_ids);
+  first_volume_ = std::move(first_volume);
+}
+
+const std::vector<double>& FrameRecorder::record(const FrameInfo& info, const Solver& solver) {
+  const ParticleSet& ps = solver.particles();
+  const auto extra = solver.frame_quantities();
+  if (!columns_complete_) {
+    // Solver-specific columns (MPM: the mixture's water and heat totals) join on the first frame.
+    for (const auto& [name, value] : extra) columns_.push_back(name);
+    columns_complete_ = true;
+  }
+  const FrameStats s = compute_frame_stats(ps);
+  const Real bake_time = scene_.oven.bake_time(info.time);
+  row_ = {info.time,          double(info.steps), info.last_dt,      double(s.particles),
+          s.kinetic_energy,   s.max_speed,        s.bounds.min.x(),  s.bounds.min.y(),
+          s.bounds.min.z(),   s.bounds.max.x(),   s.bounds.max.y(),  s.bounds.max.z(),
+          s.mean_temperature, s.min_temperature,  s.max_temperature, scene_.oven.air_temperature(bake_time),
+          clock_.seconds(),   bake_time};
+  const std::vector<BodyStats> bodies = compute_body_stats(ps, scene_.bodies.size(), up_direction(scene_));
+  last_volume_.clear();
+  for (const BodyStats& b : bodies) last_volume_.push_back(b.volume);
+  if (first_volume_.empty()) first_volume_ = last_volume_;
+  for (std::size_t b = 0; b < bodies.size(); ++b)
+    if (!scene_.bodies[b].hold_temperature) {
+      row_.push_back(bodies[b].volume);
+      row_.push_back(bodies[b].height());
+    }
+  if (follow_ids_.empty()) {
+    // Followed probes pick their particle on the first frame.
+    const auto& x = ps.vector("position");
+    for (const auto& p : scene_.probes) {
+      std::int32_t best = -1;
+      Real best_d = std::numeric_limits<Real>::infinity();
+      if (p.follow)
+        for (std::size_t i = 0; i < ps.size(); ++i)
+          if (const Real d = (x[i] - p.position).squaredNorm(); d < best_d) {
+            best_d = d;
+            best = ps.integer("id")[i];
+          }
+      follow_ids_.push_back(best);
+    }
+  }
+  const auto& ids = ps.integer("id");
+  for (std::size_t k = 0; k < scene_.probes.size(); ++k) {
+    const auto& p = scene_.probes[k];
+    if (!p.follow) {
+      for (Real v : solver.sample(p.position, p.quantities)) row_.push_back(v);
+      continue;
+    }
+    const auto at = std::find(ids.begin(), ids.end(), follow_ids_[k]);
+    for (const auto& q : p.quantities)
+      row_.push_back(at == ids.end() ? std::numeric_limits<Real>::quiet_NaN()
+                                     : ParticleQuantity::resolve(ps, q, "probes")(std::size_t(at - ids.begin())));
+  }
+  if (bake_) {
+    last_bake_ = bake_->compute(ps);
+    for (std::size_t b = 0; b < last_bake_.size(); ++b)
+      if (!scene_.bodies[b].hold_temperature)
+        for (Real v : bake_->values(last_bake_[b])) row_.push_back(v);
+  }
+  for (const auto& [name, value] : extra) row_.push_back(value);
+  recorded_ = true;
+  return row_;
+}
+
+std::string FrameRecorder::progress_note() const {
+  Real coldest = std::numeric_limits<Real>::infinity();
+  for (std::size_t b = 0; b < last_bake_.size(); ++b)
+    if (!scene_.bodies[b].hold_temperature) coldest = std::min(coldest, last_bake_[b].core_temperature);
+  return std::isfinite(coldest) ? fmt::format("core {:.1f} degC", coldest) : "";
+}
+
+std::vector<std::string> FrameRecorder::bake_summary() const {
+  std::vector<std::string> lines;
+  for (std::size_t b = 0; b < last_bake_.size(); ++b) {
+    if (scene_.bodies[b].hold_temperature) continue;
+    const BodyBake& k = last_bake_[b];
+    std::string line = fmt::format("{}: core {:.1f} degC, crust {:.1f} degC", scene_.bodies[b].name, k.core_temperature,
+                                   k.crust_temperature);
+    if (b < first_volume_.size() && b < last_volume_.size() && first_volume_[b] > 0)
+      line += fmt::format(", volume x{:.2f}", last_volume_[b] / first_volume_[b]);
+    if (bake_->has_water())
+      line += fmt::format(", moisture loss {:.1f} % ({:.1f} % of its weight)", std::max(0.0, k.moisture_loss_percent),
+                          std::max(0.0, k.weight_loss_percent));
+    lines.push_back(line);
+  }
+  return lines;
+}
+
+RunOutput::RunOutput(fs::path dir, const Scene& scene, const Solver& solver, RunLog& log)
+    : dir_(std::move(dir)), scene_(scene), log_(log), recorder_(scene, solver) {
   ensure_directory(dir_);
   ensure_directory(dir_ / "frames");
   write_file_atomic(dir_ / "scene.json", scene_.resolved.dump(2) + "\n");
@@ -112,23 +235,6 @@ RunOutput::RunOutput(fs::path dir, const Scene& scene, const Solver& solver, Run
     mesh_ = mesh_settings(mesh);
     geometry_ = run_geometry(scene_.resolved);
   }
-}
-
-std::string RunOutput::stats_header() const {
-  std::string h =
-      "time,steps,dt,particles,kinetic_energy,max_speed,min_x,min_y,min_z,max_x,max_y,max_z,"
-      "mean_temperature,min_temperature,max_temperature,air_temperature,wall_time,bake_time";
-  for (const auto& b : scene_.bodies) {
-    if (b.hold_temperature) continue;
-    h += fmt::format(",volume:{0},height:{0}", b.name);
-  }
-  for (const auto& p : scene_.probes)
-    for (const auto& q : p.quantities) h += fmt::format(",probe:{}:{}", p.name, q);
-  if (bake_)
-    for (const auto& b : scene_.bodies)
-      if (!b.hold_temperature)
-        for (const std::string& c : bake_->columns(b.name)) h += "," + c;
-  return h;
 }
 
 void RunOutput::on_frame(const FrameInfo& info, const Solver& solver) {
@@ -150,102 +256,32 @@ void RunOutput::on_frame(const FrameInfo& info, const Solver& solver) {
     }
     if (mesh_) write_frame_mesh(dir_ / "meshes", info.frame, frame_mesh(ps, geometry_, *mesh_), *mesh_);
   }
-  const auto extra = solver.frame_quantities();
+  const std::vector<double>& values = recorder_.record(info, solver);
+  const std::vector<std::string>& columns = recorder_.columns();
   if (!header_written_) {
-    // Solver-specific columns (MPM: the mixture's water and heat totals) join the header on the first frame.
-    std::string names;
-    for (const auto& [name, value] : extra) names += "," + name;
-    const std::string header = stats_header() + names;
+    std::string header;
+    for (const auto& c : columns) header += (header.empty() ? "" : ",") + c;
     // The units for tools (pandas, a spreadsheet): one row per column of stats.csv.
     std::string units = "column,unit\n";
-    std::istringstream columns(header);
-    for (std::string column; std::getline(columns, column, ',');)
-      units += column + "," + column_unit(column, ps) + "\n";
+    for (const auto& c : columns) units += c + "," + column_unit(c, ps) + "\n";
     write_file_atomic(dir_ / "stats.units.csv", units);
     write_file_atomic(dir_ / "stats.csv", header + "\n");
     header_written_ = true;
   }
-  const FrameStats s = compute_frame_stats(ps);
-  const Real bake_time = scene_.oven.bake_time(info.time);
-  std::string row =
-      fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}", num(info.time), info.steps,
-                  num(info.last_dt), s.particles, num(s.kinetic_energy), num(s.max_speed), num(s.bounds.min.x()),
-                  num(s.bounds.min.y()), num(s.bounds.min.z()), num(s.bounds.max.x()), num(s.bounds.max.y()),
-                  num(s.bounds.max.z()), num(s.mean_temperature), num(s.min_temperature), num(s.max_temperature),
-                  num(scene_.oven.air_temperature(bake_time)), num(clock_.seconds()), num(bake_time));
-  const std::vector<BodyStats> bodies = compute_body_stats(ps, scene_.bodies.size(), up_direction(scene_));
-  last_volume_.clear();
-  for (const BodyStats& b : bodies) last_volume_.push_back(b.volume);
-  if (first_volume_.empty()) first_volume_ = last_volume_;
-  for (std::size_t b = 0; b < bodies.size(); ++b)
-    if (!scene_.bodies[b].hold_temperature) row += "," + num(bodies[b].volume) + "," + num(bodies[b].height());
-  if (follow_ids_.empty()) {
-    // Followed probes pick their particle on the first frame.
-    const auto& x = ps.vector("position");
-    for (const auto& p : scene_.probes) {
-      std::int32_t best = -1;
-      Real best_d = std::numeric_limits<Real>::infinity();
-      if (p.follow)
-        for (std::size_t i = 0; i < ps.size(); ++i)
-          if (const Real d = (x[i] - p.position).squaredNorm(); d < best_d) {
-            best_d = d;
-            best = ps.integer("id")[i];
-          }
-      follow_ids_.push_back(best);
-    }
+  std::string row;
+  for (std::size_t k = 0; k < values.size(); ++k) {
+    if (k > 0) row += ",";
+    // The counts (steps, particles) as whole numbers.
+    row += (k == 1 || k == 3) ? fmt::format("{}", static_cast<long long>(values[k])) : num(values[k]);
   }
-  const auto& ids = ps.integer("id");
-  for (std::size_t k = 0; k < scene_.probes.size(); ++k) {
-    const auto& p = scene_.probes[k];
-    if (!p.follow) {
-      for (Real v : solver.sample(p.position, p.quantities)) row += "," + num(v);
-      continue;
-    }
-    const auto at = std::find(ids.begin(), ids.end(), follow_ids_[k]);
-    for (const auto& q : p.quantities)
-      row += "," + num(at == ids.end() ? std::numeric_limits<Real>::quiet_NaN()
-                                       : ParticleQuantity::resolve(ps, q, "probes")(std::size_t(at - ids.begin())));
-  }
-  if (bake_) {
-    last_bake_ = bake_->compute(ps);
-    for (std::size_t b = 0; b < last_bake_.size(); ++b)
-      if (!scene_.bodies[b].hold_temperature)
-        for (Real v : bake_->values(last_bake_[b])) row += "," + num(v);
-  }
-  for (const auto& [name, value] : extra) row += "," + num(value);
   // One row appended per frame: the cost of a frame does not grow with the run.
   append_file(dir_ / "stats.csv", row + "\n");
   flush_log();
 }
 
-std::string RunOutput::progress_note() const {
-  Real coldest = std::numeric_limits<Real>::infinity();
-  for (std::size_t b = 0; b < last_bake_.size(); ++b)
-    if (!scene_.bodies[b].hold_temperature) coldest = std::min(coldest, last_bake_[b].core_temperature);
-  return std::isfinite(coldest) ? fmt::format("core {:.1f} degC", coldest) : "";
-}
-
-std::vector<std::string> RunOutput::bake_summary() const {
-  std::vector<std::string> lines;
-  for (std::size_t b = 0; b < last_bake_.size(); ++b) {
-    if (scene_.bodies[b].hold_temperature) continue;
-    const BodyBake& k = last_bake_[b];
-    std::string line = fmt::format("{}: core {:.1f} degC, crust {:.1f} degC", scene_.bodies[b].name, k.core_temperature,
-                                   k.crust_temperature);
-    if (b < first_volume_.size() && b < last_volume_.size() && first_volume_[b] > 0)
-      line += fmt::format(", volume x{:.2f}", last_volume_[b] / first_volume_[b]);
-    if (bake_->has_water())
-      line += fmt::format(", moisture loss {:.1f} % ({:.1f} % of its weight)", std::max(0.0, k.moisture_loss_percent),
-                          std::max(0.0, k.weight_loss_percent));
-    lines.push_back(line);
-  }
-  return lines;
-}
-
 void RunOutput::flush_log() { log_.append_to(dir_ / "log.txt"); }
 
 void RunOutput::resume_after(int frame, std::vector<std::int32_t> follow_ids) {
-  follow_ids_ = std::move(follow_ids);
   // stats.csv: the header and one row per frame 0..frame (complete lines only:
   // a killed run may have left the last one unfinished).
   const fs::path stats = dir_ / "stats.csv";
@@ -271,11 +307,12 @@ void RunOutput::resume_after(int frame, std::vector<std::int32_t> follow_ids) {
     std::vector<std::string> names, values;
     for (std::istringstream h(header); std::getline(h, cell, ',');) names.push_back(cell);
     for (std::istringstream v(first); std::getline(v, cell, ',');) values.push_back(cell);
-    first_volume_.assign(scene_.bodies.size(), std::numeric_limits<Real>::quiet_NaN());
+    std::vector<Real> first_volume(scene_.bodies.size(), std::numeric_limits<Real>::quiet_NaN());
     for (std::size_t b = 0; b < scene_.bodies.size(); ++b)
       for (std::size_t k = 0; k < names.size() && k < values.size(); ++k)
         if (names[k] == "volume:" + scene_.bodies[b].name)
-          if (const auto v = parse_number(values[k])) first_volume_[b] = *v;
+          if (const auto v = parse_number(values[k])) first_volume[b] = *v;
+    recorder_.resume(std::move(follow_ids), std::move(first_volume));
   }
   header_written_ = true;
   // particles.pvd: entries of frames up to `frame`, read back from the file.

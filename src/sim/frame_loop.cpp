@@ -21,7 +21,7 @@ RunSummary run_frames(Solver& solver, const FrameLoopConfig& cfg, FrameObserver&
   info.time = solver.time();
   info.steps = cfg.start_steps;
   info.last_dt = cfg.start_last_dt;
-  if (cfg.start_frame == 0) {
+  if (cfg.start_frame == 0 && !cfg.start_frame_written) {
     observer.on_frame(info, solver);
     if (cfg.after_frame && !cfg.after_frame(info, solver)) summary.stopped = true;
   }

@@ -33,6 +33,9 @@ struct FrameLoopConfig {
   int start_frame = 0;
   long start_steps = 0;
   Real start_last_dt = 0;
+  // The start frame's row is written already (a resume, or a loop going on
+  // from where an earlier one stopped): it is not observed again.
+  bool start_frame_written = false;
   // Called after every frame (checkpoints, interruption); returning false
   // stops the loop there.
   std::function<bool(const FrameInfo&, const Solver&)> after_frame;
