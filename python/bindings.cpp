@@ -132,9 +132,7 @@ class Simulation {
  public:
   // A new simulation of `scene`; with `out`, a run directory claimed as `bakesim run --out` does.
   Simulation(const PyScene& scene, int threads, const std::optional<fs::path>& out, bool force, bool quiet)
-      : scene_(*scene.scene), scene_dir_(scene.scene_dir), threads_(threads_of(threads)), arena_(threads_) {
-    log_ = std::make_unique<RunLog>(!quiet);
-    arena_.execute([&] { solver_ = make_solver(scene_); });
+      : Simulation(scene, threads, quiet) {
     if (out) {
       RunDirectoryClaim claim = claim_new_run(*out, scene_.name, force);
       lock_ = std::move(claim.lock);
@@ -191,8 +189,7 @@ class Simulation {
   Real step() {
     Real dt = 0;
     arena_.execute([&] {
-      dt = solver_->max_stable_dt();
-      check_dt(dt);
+      dt = checked_stable_dt(*solver_, min_dt_, info_.steps);
       solver_->step(dt);
     });
     info_.last_dt = dt;
@@ -208,13 +205,7 @@ class Simulation {
     long steps = 0;
     arena_.execute([&] {
       while (solver_->time() < target - 1e-12) {
-        Real dt = solver_->max_stable_dt();
-        check_dt(dt);
-        const Real remaining = target - solver_->time();
-        if (dt >= remaining)
-          dt = remaining;
-        else if (dt > 0.5 * remaining)
-          dt = 0.5 * remaining;
+        const Real dt = landing_step(checked_stable_dt(*solver_, min_dt_, info_.steps), target - solver_->time());
         solver_->step(dt);
         info_.last_dt = dt;
         ++info_.steps;
@@ -278,21 +269,17 @@ class Simulation {
  private:
   // For the resumes: the solver only; the caller adds the output.
   Simulation(const PyScene& scene, int threads, bool quiet)
-      : scene_(*scene.scene), scene_dir_(scene.scene_dir), threads_(threads_of(threads)), arena_(threads_) {
+      : scene_(*scene.scene),
+        scene_dir_(scene.scene_dir),
+        min_dt_(scene_.resolved["solver"]["min_dt"].get<double>()),
+        threads_(threads_of(threads)),
+        arena_(threads_) {
     log_ = std::make_unique<RunLog>(!quiet);
     arena_.execute([&] { solver_ = make_solver(scene_); });
   }
   static int threads_of(int threads) {
     if (threads < 0) throw InputError("Simulation(threads)", "must be >= 0 (0: every core)");
     return threads > 0 ? threads : int(tbb::info::default_concurrency());
-  }
-  void check_dt(Real dt) const {
-    const Real floor = scene_.resolved["solver"]["min_dt"].get<double>();
-    if (!(dt >= floor))
-      throw SimulationError(
-          fmt::format("{} step {} (t = {:.6g} s): the stable time step {:.4g} s, limited by {}, is "
-                      "below the floor {:.4g} s",
-                      solver_->name(), info_.steps, solver_->time(), dt, solver_->active_dt_bound(), floor));
   }
   void set_position(const Checkpoint& c) {
     info_.frame = c.frame;
@@ -303,6 +290,7 @@ class Simulation {
 
   Scene scene_;
   std::string scene_dir_;
+  Real min_dt_;  // the scene's step floor (solver.min_dt)
   int threads_;
   tbb::task_arena arena_;  // this simulation's threads: two in one process do not share a limit
   std::unique_ptr<RunLog> log_;
@@ -517,11 +505,26 @@ PYBIND11_MODULE(_bakesim, m) {
            })
       .def("_particle_count", [](Simulation& s) { return s.solver().particles().size(); })
       .def("_stats_columns", [](Simulation& s) { return s.recorder().columns(); })
-      .def("_stats_row", [](Simulation& s) { return s.recorder().last_row(); });
+      .def("_stats_row", [](Simulation& s) { return s.recorder().last_row(); })
+      .def("_stats_units", [](Simulation& s) {
+        std::vector<std::string> units;
+        for (const auto& c : s.recorder().columns()) units.push_back(stats_column_unit(c, s.solver().particles()));
+        return units;
+      });
 
   m.def(
       "read_frame", [](const fs::path& ply) { return arrays_of(read_particle_frame(ply)); }, py::arg("path"),
       "A particle frame (frames/NNNNN.ply) as {attribute: numpy array}.");
+  m.def(
+      "read_stats",
+      [](const fs::path& dir) {
+        const render::Table t = render::read_csv(dir / "stats.csv");
+        py::dict out;
+        for (std::size_t k = 0; k < t.names.size(); ++k)
+          out[py::str(t.names[k])] = py::array_t<double>(t.columns[k].size(), t.columns[k].data());
+        return out;
+      },
+      py::arg("run_dir"), "A run directory's stats.csv as {column: numpy array}.");
   m.def(
       "run_results", [](const fs::path& dir) { return results_of(render::read_run_results(dir)); }, py::arg("run_dir"),
       "What a bake did, from its run directory's stats.csv (the numbers of sweep.csv).");

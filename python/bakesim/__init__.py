@@ -12,14 +12,13 @@ as the command line's (bakesim._bakesim): the same validation, messages and
 files; a run with `out=` writes what `bakesim run` writes.
 """
 
-import csv as _csv
 import math as _math
 import os as _os
 
 import numpy as _np
 
 from . import _bakesim
-from ._bakesim import Error, InputError, IoError, Scene, SimulationError, read_frame, run_results
+from ._bakesim import Error, InputError, IoError, Scene, SimulationError, read_frame, read_stats, run_results
 
 __version__ = _bakesim.__version__
 
@@ -197,7 +196,7 @@ class Simulation:
     @property
     def units(self):
         """The unit of each stats column (as stats.units.csv)."""
-        return {c: _column_unit(c, self.particles.units) for c in self._sim._stats_columns()}
+        return dict(zip(self._sim._stats_columns(), self._sim._stats_units()))
 
     def sample(self, position, quantities):
         """Interpolated quantities at a point (NaN where no particle is near)."""
@@ -215,42 +214,7 @@ class Simulation:
                 f"t = {self.time:.6g} s, frame {self.frame})>")
 
 
-_UNITS = {"time": "s", "dt": "s", "kinetic_energy": "J", "max_speed": "m/s", "wall_time": "s", "bake_time": "s",
-          "volume": "m3", "height": "m", "core_temperature": "degC", "crust_temperature": "degC", "water": "kg",
-          "moisture_loss_percent": "%", "weight_loss_percent": "%", "co2_mol": "mol", "heat_in": "J",
-          "water_total": "kg", "water_evaporated": "kg", "latent_heat_out": "J", "water_boiled": "kg"}
-
-
-def _column_unit(column, particle_units):
-    if column.startswith("probe:"):
-        quantity = column.rsplit(":", 1)[1]
-        if quantity == "speed" or quantity.startswith("velocity_"):
-            return "m/s"
-        return particle_units.get(quantity, "")
-    name = column.split(":", 1)[0]
-    if name in _UNITS:
-        return _UNITS[name]
-    if len(name) == 5 and name[:4] in ("min_", "max_"):
-        return "m"
-    return "degC" if "temperature" in name else ""
-
-
 # --- run directories ----------------------------------------------------------
-def read_stats(run_dir):
-    """A run directory's stats.csv as {column: numpy array} (a last line without its newline is skipped)."""
-    path = _os.path.join(_os.fspath(run_dir), "stats.csv")
-    with open(path, newline="") as f:
-        text = f.read()
-    lines = text.split("\n")
-    if not text.endswith("\n"):
-        lines = lines[:-1]
-    rows = list(_csv.reader([line for line in lines if line]))
-    if not rows:
-        raise InputError(f"{path}: empty")
-    header, body = rows[0], rows[1:]
-    return {c: _np.array([float(r[k]) for r in body], dtype=float) for k, c in enumerate(header)}
-
-
 def frames(run_dir):
     """[(frame number, path of frames/NNNNN.ply)], in order."""
     directory = _os.path.join(_os.fspath(run_dir), "frames")

@@ -20,44 +20,7 @@ namespace bakesim {
 
 namespace fs = std::filesystem;
 
-RunLog::RunLog(bool echo_to_stderr) : stream_(std::make_shared<std::ostringstream>()) {
-  auto file_sink = std::make_shared<spdlog::sinks::ostream_sink_mt>(*stream_);
-  file_sink->set_pattern("[%Y-%m-%d %H:%M:%S.%e] [%l] %v");
-  std::vector<spdlog::sink_ptr> sinks{file_sink};
-  if (echo_to_stderr) {
-    auto err = std::make_shared<spdlog::sinks::stderr_color_sink_mt>();
-    err->set_level(spdlog::level::warn);
-    err->set_pattern("%^%l%$: %v");
-    sinks.push_back(err);
-  }
-  logger_ = std::make_shared<spdlog::logger>("bakesim", sinks.begin(), sinks.end());
-  logger_->set_level(spdlog::level::debug);
-}
-
-void RunLog::append_to(const fs::path& file) {
-  logger_->flush();
-  const std::string lines = stream_->str();
-  if (lines.empty()) return;
-  append_file(file, lines);
-  stream_->str("");
-}
-
-namespace {
-std::string num(double v) {
-  if (std::isnan(v)) return "nan";
-  return fmt::format("{:.9g}", v);
-}
-
-// A number written by this program ("nan" aside); nullopt for anything else.
-std::optional<double> parse_number(const std::string& s) {
-  char* end = nullptr;
-  const double v = std::strtod(s.c_str(), &end);
-  if (s.empty() || end != s.c_str() + s.size()) return std::nullopt;
-  return v;
-}
-
-// The unit of a stats.csv column ("" for counts and ratios), for stats.units.csv.
-std::string column_unit(const std::string& column, const ParticleSet& ps) {
+std::string stats_column_unit(const std::string& column, const ParticleSet& ps) {
   static const std::vector<std::pair<std::string, std::string>> exact = {{"time", "s"},
                                                                          {"steps", ""},
                                                                          {"dt", "s"},
@@ -92,6 +55,42 @@ std::string column_unit(const std::string& column, const ParticleSet& ps) {
       if (a.info.name == quantity) return a.info.unit;
   }
   return "";
+}
+
+RunLog::RunLog(bool echo_to_stderr) : stream_(std::make_shared<std::ostringstream>()) {
+  auto file_sink = std::make_shared<spdlog::sinks::ostream_sink_mt>(*stream_);
+  file_sink->set_pattern("[%Y-%m-%d %H:%M:%S.%e] [%l] %v");
+  std::vector<spdlog::sink_ptr> sinks{file_sink};
+  if (echo_to_stderr) {
+    auto err = std::make_shared<spdlog::sinks::stderr_color_sink_mt>();
+    err->set_level(spdlog::level::warn);
+    err->set_pattern("%^%l%$: %v");
+    sinks.push_back(err);
+  }
+  logger_ = std::make_shared<spdlog::logger>("bakesim", sinks.begin(), sinks.end());
+  logger_->set_level(spdlog::level::debug);
+}
+
+void RunLog::append_to(const fs::path& file) {
+  logger_->flush();
+  const std::string lines = stream_->str();
+  if (lines.empty()) return;
+  append_file(file, lines);
+  stream_->str("");
+}
+
+namespace {
+std::string num(double v) {
+  if (std::isnan(v)) return "nan";
+  return fmt::format("{:.9g}", v);
+}
+
+// A number written by this program ("nan" aside); nullopt for anything else.
+std::optional<double> parse_number(const std::string& s) {
+  char* end = nullptr;
+  const double v = std::strtod(s.c_str(), &end);
+  if (s.empty() || end != s.c_str() + s.size()) return std::nullopt;
+  return v;
 }
 
 // Unit vector against gravity (the loaf's "up"); +y without gravity.
@@ -263,7 +262,7 @@ void RunOutput::on_frame(const FrameInfo& info, const Solver& solver) {
     for (const auto& c : columns) header += (header.empty() ? "" : ",") + c;
     // The units for tools (pandas, a spreadsheet): one row per column of stats.csv.
     std::string units = "column,unit\n";
-    for (const auto& c : columns) units += c + "," + column_unit(c, ps) + "\n";
+    for (const auto& c : columns) units += c + "," + stats_column_unit(c, ps) + "\n";
     write_file_atomic(dir_ / "stats.units.csv", units);
     write_file_atomic(dir_ / "stats.csv", header + "\n");
     header_written_ = true;

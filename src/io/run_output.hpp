@@ -43,6 +43,9 @@ class RunLog {
   std::shared_ptr<spdlog::logger> logger_;
 };
 
+// The unit of a stats.csv column ("" for counts and ratios), as stats.units.csv gives it.
+std::string stats_column_unit(const std::string& column, const ParticleSet& particles);
+
 // The numbers of stats.csv, one row per frame, computed without writing them:
 // RunOutput writes them, the Python module keeps them in memory.
 class FrameRecorder {

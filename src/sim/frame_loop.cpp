@@ -8,6 +8,21 @@
 
 namespace bakesim {
 
+Real checked_stable_dt(Solver& solver, Real min_dt, long steps) {
+  const Real dt = solver.max_stable_dt();
+  if (!(dt >= min_dt))
+    throw SimulationError(fmt::format(
+        "{} step {} (t = {:.6g} s): the stable time step {:.4g} s, limited by {}, is below the floor {:.4g} s",
+        solver.name(), steps, solver.time(), dt, solver.active_dt_bound(), min_dt));
+  return dt;
+}
+
+Real landing_step(Real dt, Real remaining) {
+  if (dt >= remaining) return remaining;
+  if (dt > 0.5 * remaining) return 0.5 * remaining;
+  return dt;
+}
+
 RunSummary run_frames(Solver& solver, const FrameLoopConfig& cfg, FrameObserver& observer, ProgressBar& progress,
                       spdlog::logger& log) {
   if (!(cfg.fps > 0)) throw InputError("time.fps", "must be > 0");
@@ -29,21 +44,12 @@ RunSummary run_frames(Solver& solver, const FrameLoopConfig& cfg, FrameObserver&
   for (int f = cfg.start_frame + 1; f <= frames && !summary.stopped; ++f) {
     const Real target = std::min(cfg.end_time, f / cfg.fps);
     while (solver.time() < target - 1e-12) {
-      Real dt = solver.max_stable_dt();
-      if (!(dt >= cfg.min_dt))
-        throw SimulationError(fmt::format(
-            "{} step {} (t = {:.6g} s): the stable time step {:.4g} s, limited by {}, is below the floor {:.4g} s",
-            solver.name(), info.steps, solver.time(), dt, solver.active_dt_bound(), cfg.min_dt));
+      Real dt = checked_stable_dt(solver, cfg.min_dt, info.steps);
       if (solver.active_dt_bound() != bound) {
         bound = solver.active_dt_bound();
         log.info("t = {:.6f} s: time step {:.3e} s limited by {}", solver.time(), dt, bound);
       }
-      // Land exactly on the frame time without leaving a tiny last step.
-      const Real remaining = target - solver.time();
-      if (dt >= remaining)
-        dt = remaining;
-      else if (dt > 0.5 * remaining)
-        dt = 0.5 * remaining;
+      dt = landing_step(dt, target - solver.time());
       solver.step(dt);
       info.last_dt = dt;
       ++info.steps;

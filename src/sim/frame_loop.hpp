@@ -55,6 +55,11 @@ struct RunSummary {
   bool stopped = false;  // after_frame asked to stop before the end
 };
 
+// The solver's stable step, or SimulationError when it is below `min_dt` (`steps`: for the message).
+Real checked_stable_dt(Solver& solver, Real min_dt, long steps);
+// The step to take towards `target`: lands on it exactly without leaving a tiny last step.
+Real landing_step(Real dt, Real remaining);
+
 RunSummary run_frames(Solver& solver, const FrameLoopConfig& cfg, FrameObserver& observer, ProgressBar& progress,
                       spdlog::logger& log);
 
