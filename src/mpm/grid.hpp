@@ -30,6 +30,11 @@ inline Axis axis_weights(Real xi) {
   return a;
 }
 
+// Grid contact: a node takes a collider's or wall's condition when its signed
+// distance from the solid is below this many cells, so a face lying on a node
+// plane acts the same whichever side of it round-off puts the node.
+inline constexpr Real kNodeOnFace = 1e-3;
+
 // Mass and momentum after P2G; the grid update replaces the momentum by the
 // new velocity. Four doubles: one node is half a cache line.
 struct GridNode {

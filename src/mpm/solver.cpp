@@ -63,14 +63,17 @@ MpmSolver::MpmSolver(Setup setup)
   dx_ = s.cell_size;
   inv_dx_ = 1.0 / dx_;
   const Vec3 ext = setup_.domain.extent();
+  // Nodes across the domain plus the guard layer on both sides.
+  const double extra = 1 + 2 * kGuardCells;
   // In floating point first: the integer product of tiny cells wraps around.
-  const double node_estimate =
-      (std::ceil(ext.x() * inv_dx_) + 1) * (std::ceil(ext.y() * inv_dx_) + 1) * (std::ceil(ext.z() * inv_dx_) + 1);
+  const double node_estimate = (std::ceil(ext.x() * inv_dx_) + extra) * (std::ceil(ext.y() * inv_dx_) + extra) *
+                               (std::ceil(ext.z() * inv_dx_) + extra);
   if (!(node_estimate <= 4e8))
     throw InputError("solver.mpm.cell_size", "the grid over the domain would have more than 4e8 nodes");
-  nx_ = static_cast<int>(std::ceil(ext.x() * inv_dx_)) + 1;
-  ny_ = static_cast<int>(std::ceil(ext.y() * inv_dx_)) + 1;
-  nz_ = static_cast<int>(std::ceil(ext.z() * inv_dx_)) + 1;
+  grid_origin_ = setup_.domain.min - Vec3::Constant(kGuardCells * dx_);
+  nx_ = static_cast<int>(std::ceil(ext.x() * inv_dx_) + extra);
+  ny_ = static_cast<int>(std::ceil(ext.y() * inv_dx_) + extra);
+  nz_ = static_cast<int>(std::ceil(ext.z() * inv_dx_) + extra);
   const std::size_t nodes = std::size_t(nx_) * ny_ * nz_;
   if (nodes > 400'000'000)
     throw InputError("solver.mpm.cell_size", "the grid over the domain would have more than 4e8 nodes");
@@ -103,15 +106,26 @@ MpmSolver::MpmSolver(Setup setup)
 void MpmSolver::build_particles() {
   const Settings& s = setup_.settings;
   const Real spacing = dx_ / std::cbrt(Real(s.particles_per_cell));
-  const Vec3 lo = setup_.domain.min + Vec3::Constant(2 * dx_), hi = setup_.domain.max - Vec3::Constant(2 * dx_);
   std::vector<std::vector<Vec3>> points(setup_.bodies.size());
   std::size_t total = 0;
   for (std::size_t b = 0; b < setup_.bodies.size(); ++b) {
-    for (const Vec3& p : sample_lattice(setup_.bodies[b].shape, spacing))
-      if ((p.array() > lo.array()).all() && (p.array() < hi.array()).all()) points[b].push_back(p);
+    const Body& body = setup_.bodies[b];
+    const std::string where = body.source.empty() ? "bodies[" + std::to_string(b) + "]" : body.source;
+    points[b] = sample_lattice(body.shape, spacing);
     if (points[b].empty())
-      throw InputError("bodies[" + std::to_string(b) + "]",
-                       "no material points inside the domain (shape too small for the cell size, or outside)");
+      throw InputError(where, fmt::format("body '{}' contains no material points at {} per cell of {} m: make the "
+                                          "shape larger or the cell smaller",
+                                          body.name, s.particles_per_cell, dx_));
+    // Every sampled point is kept: a body that does not fit is an error, never silently cut.
+    const auto outside = std::count_if(points[b].begin(), points[b].end(),
+                                       [&](const Vec3& p) { return !setup_.domain.contains(p); });
+    if (outside > 0) {
+      const Vec3 p = *std::find_if(points[b].begin(), points[b].end(),
+                                   [&](const Vec3& q) { return !setup_.domain.contains(q); });
+      throw InputError(where, fmt::format("body '{}' reaches outside the domain: {} of its {} material points lie "
+                                          "outside (one at [{:.4g}, {:.4g}, {:.4g}]); grow the domain or move the body",
+                                          body.name, outside, points[b].size(), p.x(), p.y(), p.z()));
+    }
     total += points[b].size();
   }
   particles_.resize(total);

@@ -86,6 +86,7 @@ class MpmSolver final : public Solver {
   template <bool kThermal>
   void g2p(Real dt);
   void push_out_of_colliders(std::size_t p);
+  void push_inside_domain(std::size_t p);
   std::array<Real, 2> flip_bounds_{};  // coldest, hottest temperature before the step (G2P)
 
   Setup setup_;
@@ -137,7 +138,11 @@ class MpmSolver final : public Solver {
   std::vector<std::int32_t>& body_;
   std::vector<std::int32_t>& id_;
 
-  // Dense node grid over the domain (nodes at domain.min + k Δx).
+  // Dense node grid over the domain grown by kGuardCells on every side (nodes at
+  // grid_origin_ + k Δx, grid_origin_ = domain.min − kGuardCells Δx): the walls
+  // lie on the domain faces and a point a cell outside still has its stencil.
+  static constexpr int kGuardCells = 2;
+  Vec3 grid_origin_ = Vec3::Zero();
   Real dx_ = 0, inv_dx_ = 0;
   int nx_ = 0, ny_ = 0, nz_ = 0;
   std::vector<GridNode> grid_;

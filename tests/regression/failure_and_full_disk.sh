@@ -66,10 +66,10 @@ else
   echo "skipped: cannot mount a read-only tmpfs here"
 fi
 
-# --- a file-size limit: frames (235 kB) fit under 300 kB, the first checkpoint does not
+# --- a file-size limit: frames (380 kB) fit under 600 kB, the first checkpoint (2 MB) does not
 # (bakesim ignores SIGXFSZ itself, so the write fails with EFBIG and is reported.)
 (
-  ulimit -f 300
+  ulimit -f 600
   exec "$BAKESIM" run "$ROOT/tests/data/resume_mpm.json" --out "$OUT/limit" --threads 2 --quiet --checkpoint-every 3
 ) 2>"$OUT/limit.txt"
 rc=$?

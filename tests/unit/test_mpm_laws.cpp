@@ -144,3 +144,35 @@ TEST(MpmLaws, CamClayReturnsToTheClosestPointOfTheEllipseInTheEnergyNorm) {
   EXPECT_NEAR((compose(return_map(VonMises{100.0, 0.0}, lame, 1e-3, 1.0, svd3(dilated))) - dilated).norm(), 0, 1e-15);
   EXPECT_LT(compose(return_map(cc, lame, 1e-3, jp, svd3(dilated))).determinant(), dilated.determinant());
 }
+
+namespace {
+
+// Steady shear stress τ_xy of a Hencky von Mises material sheared at rate
+// γ̇ (v_x = γ̇ y) for `steps` steps of dt: F ← (I + Δt ∇v) F, then the return map.
+Real steady_shear_stress(const VonMises& law, const Lame& lame, Real rate, Real dt, int steps) {
+  Mat3 grad = Mat3::Zero();
+  grad(0, 1) = rate;
+  Mat3 f = Mat3::Identity();
+  for (int k = 0; k < steps; ++k) f = compose(return_map(law, lame, dt, 1.0, svd3((Mat3::Identity() + dt * grad) * f)));
+  return kirchhoff_stress(ElasticLaw{Hencky{lame}}, f, svd3(f))(0, 1);
+}
+
+}  // namespace
+
+TEST(MpmLaws, ViscoplasticVonMisesShearsAsABinghamFluidOfViscosityHalfEta) {
+  // The relaxation of spec 3.2 step 3 (keep 1 / (1 + 2μΔt/η) of the overstress)
+  // in simple shear settles at τ_xy = τ_y/√3 + (η/2) γ̇: a Bingham fluid whose
+  // shear yield stress is τ_y/√3 (q = √3 τ_xy) and whose plastic (shear)
+  // viscosity is η/2, as docs/physics.md states. Small elastic strains (τ/2μ ≈ 0.5%).
+  const Lame lame = Lame::from_young(2.6e4, 0.3);  // μ = 1e4 Pa
+  const Real eta = 50, rate = 2, dt = 1e-4;         // relaxation time η/2μ = 25 steps
+  const Real viscous = steady_shear_stress(VonMises{0.0, eta}, lame, rate, dt, 3000);
+  EXPECT_NEAR(viscous, 0.5 * eta * rate, 0.01 * 0.5 * eta * rate);
+  const Real yield = 100;
+  const Real bingham = steady_shear_stress(VonMises{yield, eta}, lame, rate, dt, 3000);
+  const Real expected = yield / std::sqrt(3.0) + 0.5 * eta * rate;
+  EXPECT_NEAR(bingham, expected, 0.01 * expected);
+  // Twice the rate: the stress above yield doubles (linear in γ̇, no other rate dependence).
+  const Real faster = steady_shear_stress(VonMises{yield, eta}, lame, 2 * rate, dt, 3000);
+  EXPECT_NEAR(faster - yield / std::sqrt(3.0), 2 * (bingham - yield / std::sqrt(3.0)), 0.02 * eta * rate);
+}

@@ -15,6 +15,7 @@
 
 #include <cmath>
 
+#include "core/errors.hpp"
 #include "helpers.hpp"
 
 using namespace bakesim;
@@ -323,4 +324,128 @@ TEST(Mpm, NothingPassesThroughAPlateThinnerThanTwoCells) {
   }
   EXPECT_EQ(below_ever, 0u) << "lowest particle at y = " << lowest_ever;
   EXPECT_LT(lowest_ever, top + 0.5 * dx);  // it did land on the plate
+}
+
+// ---- boundaries: where the scene puts them -----------------------------------
+
+namespace {
+
+// Mean height of a stiff block after it has stood for `t` seconds on the
+// floor at y = 0 given by either the domain's lower face or a plane collider.
+Real mean_height_after(bool floor_is_domain, Real t) {
+  const Real dx = 0.01;
+  json doc = base_scene(
+      dx, {{"block", {{"density", 1000.0}, {"youngs_modulus", 1e6}, {"poisson_ratio", 0.3}}}},
+      json::array({{{"name", "block"},
+                    {"material", "block"},
+                    {"shape", {{"type", "box"}, {"min", {-0.04, 0.0, -0.04}}, {"max", {0.04, 0.04, 0.04}}}}}}),
+      {-0.1, floor_is_domain ? 0.0 : -0.05, -0.1}, {0.1, 0.1, 0.1}, {0, -9.81, 0});
+  if (!floor_is_domain)
+    doc["colliders"] = json::array({{{"name", "floor"},
+                                     {"shape", {{"type", "plane"}, {"point", {0, 0, 0}}, {"normal", {0, 1, 0}}}},
+                                     {"contact", "separate"}}});
+  auto s = make_mpm(doc);
+  test_support::advance_to(*s, t);
+  const auto& x = s->particles().vector("position");
+  Real sum = 0;
+  for (const Vec3& p : x) sum += p.y();
+  return sum / Real(x.size());
+}
+
+}  // namespace
+
+TEST(Mpm, MaterialRestsOnTheDomainFloorAsOnAPlaneCollider) {
+  // A stiff block (its own weight compresses it by ρ g H² / 2E ≈ 8 µm) standing
+  // on the domain floor: it used to sink about a cell (the floor lay two cells
+  // inside the domain and the node on it was free). Now it rests on the face,
+  // as on a plane collider at the same height.
+  const Real dx = 0.01, start = 0.02;  // the block's mean height as sampled
+  const Real on_domain = mean_height_after(true, 0.1), on_plane = mean_height_after(false, 0.1);
+  RecordProperty("sink_domain_cells", std::to_string((start - on_domain) / dx));
+  RecordProperty("sink_plane_cells", std::to_string((start - on_plane) / dx));
+  EXPECT_LT(std::abs(start - on_domain), 0.05 * dx);
+  EXPECT_LT(std::abs(on_domain - on_plane), 0.05 * dx);
+}
+
+TEST(Mpm, EveryPointOfABodyThatFillsTheDomainIsKept) {
+  // The body is the whole domain: every lattice point is a material point
+  // (the solver used to drop those within two cells of a face).
+  const Real dx = 0.02;
+  const json box = {{"type", "box"}, {"min", {0, 0, 0}}, {"max", {0.2, 0.1, 0.1}}};
+  json doc =
+      base_scene(dx, {{"jelly", {{"density", 1000.0}, {"youngs_modulus", 1e4}, {"poisson_ratio", 0.3}}}},
+                 json::array({{{"name", "filler"}, {"material", "jelly"}, {"shape", box}}}), {0, 0, 0}, {0.2, 0.1, 0.1},
+                 {0, -9.81, 0});
+  auto s = make_mpm(doc);
+  // 8 per cell, 2 per axis: (10·2) × (5·2) × (5·2) points.
+  EXPECT_EQ(s->particles().size(), std::size_t(20 * 10 * 10));
+  for (int k = 0; k < 20; ++k) s->step(s->max_stable_dt());  // and they stay in
+  for (const Vec3& p : s->particles().vector("position"))
+    ASSERT_TRUE(Aabb({Vec3(0, 0, 0), Vec3(0.2, 0.1, 0.1)}).contains(p)) << p.transpose();
+}
+
+TEST(Mpm, ABodyReachingOutOfTheDomainIsAnErrorNamingIt) {
+  json doc = base_scene(
+      0.02, {{"jelly", {{"density", 1000.0}, {"youngs_modulus", 1e4}, {"poisson_ratio", 0.3}}}},
+      json::array({{{"name", "inside"},
+                    {"material", "jelly"},
+                    {"shape", {{"type", "box"}, {"min", {0.02, 0.02, 0.02}}, {"max", {0.08, 0.08, 0.08}}}}},
+                   {{"name", "poking-out"},
+                    {"material", "jelly"},
+                    {"shape", {{"type", "box"}, {"min", {0.1, 0.02, 0.02}}, {"max", {0.25, 0.08, 0.08}}}}}}),
+      {0, 0, 0}, {0.2, 0.1, 0.1}, {0, -9.81, 0});
+  try {
+    make_mpm(doc);
+    FAIL() << "a body reaching out of the domain was accepted";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("bodies[1]"), std::string::npos) << what;
+    EXPECT_NE(what.find("poking-out"), std::string::npos) << what;
+    EXPECT_NE(what.find("outside the domain"), std::string::npos) << what;
+  }
+}
+
+namespace {
+
+// A block hanging between two sticky plates at y = ±(b + offset) under gravity
+// along −x: its mean displacement after 0.1 s.
+Real hanging_displacement(Real offset) {
+  const Real dx = 0.01, b = 0.05;
+  json doc = base_scene(
+      dx, {{"jelly", {{"density", 1000.0}, {"youngs_modulus", 1e5}, {"poisson_ratio", 0.3}}}},
+      json::array({{{"name", "block"},
+                    {"material", "jelly"},
+                    {"shape", {{"type", "box"}, {"min", {-0.05, -b, -0.03}}, {"max", {0.05, b, 0.03}}}}}}),
+      {-0.15, -0.08, -0.05}, {0.15, 0.08, 0.05}, {-9.81, 0, 0});
+  doc["colliders"] =
+      json::array({{{"name", "lower"},
+                    {"shape", {{"type", "plane"}, {"point", {0, -b - offset, 0}}, {"normal", {0, 1, 0}}}},
+                    {"contact", "sticky"}},
+                   {{"name", "upper"},
+                    {"shape", {{"type", "plane"}, {"point", {0, b + offset, 0}}, {"normal", {0, -1, 0}}}},
+                    {"contact", "sticky"}}});
+  auto s = make_mpm(doc);
+  const auto x0 = s->particles().vector("position");
+  test_support::advance_to(*s, 0.1);
+  const auto& x = s->particles().vector("position");
+  Real sum = 0;
+  for (std::size_t i = 0; i < x.size(); ++i) sum += x[i].x() - x0[i].x();
+  return sum / Real(x.size());
+}
+
+}  // namespace
+
+TEST(Mpm, StickyPlatesHoldOnJustInsideAndJustOutsideNodePlanes) {
+  // The plates at ±5 cm lie on node planes (the domain starts at −8 cm, so the
+  // node coordinate −0.08 + 3 Δx is a round-off away from −0.05). On them, and
+  // moved outwards or inwards by 1e-12 m and by 1e-4 cells, they must hold the
+  // block alike: a plate whose nodes fell 2e-18 m outside it used to let the
+  // material beside it run almost free. Free fall would move it 4.9 cm.
+  const Real on = hanging_displacement(0);
+  RecordProperty("displacement_on_mm", std::to_string(on * 1e3));
+  EXPECT_LT(std::abs(on), 0.002);  // held: under 4% of free fall (elastic sag and its swing)
+  for (const Real offset : {1e-12, -1e-12, 1e-6, -1e-6}) {
+    const Real d = hanging_displacement(offset);
+    EXPECT_NEAR(d, on, 0.01 * std::abs(on)) << "plates moved by " << offset << " m";
+  }
 }

@@ -22,15 +22,17 @@ void MpmSolver::phase_browning(Real dt) {
 void MpmSolver::check_state() {
   ScopedPhase t(timers_, t_check_);
   const std::size_t n = x_.size();
+  // G2P keeps points inside the domain; a cell beyond it the stencil still fits the grid.
+  const Aabb reach{setup_.domain.min - Vec3::Constant(dx_), setup_.domain.max + Vec3::Constant(dx_)};
   const std::size_t bad = first_invalid(n, [&](std::size_t i) {
-    return x_[i].allFinite() && v_[i].allFinite() && j_[i] > 0 && setup_.domain.contains(x_[i]) &&
+    return x_[i].allFinite() && v_[i].allFinite() && j_[i] > 0 && reach.contains(x_[i]) &&
            std::isfinite(temperature_[i]) && water_[i] >= 0;
   });
   if (bad == n) return;
   const char* what = !x_[bad].allFinite()                ? "position"
                      : !v_[bad].allFinite()              ? "velocity"
                      : !(j_[bad] > 0)                    ? "J (volume ratio)"
-                     : !setup_.domain.contains(x_[bad])  ? "position (left the domain)"
+                     : !reach.contains(x_[bad])          ? "position (left the domain)"
                      : !std::isfinite(temperature_[bad]) ? "temperature"
                                                          : "water mass";
   throw SimulationError(
@@ -41,13 +43,12 @@ void MpmSolver::check_state() {
                   v_[bad].z(), j_[bad], temperature_[bad], water_[bad]));
 }
 
-// P2G's quadratic stencil reaches one cell below and above a point: points
-// must lie a cell inside the domain (the solver itself keeps them two cells in).
+// Restored points must lie inside the domain, where the solver keeps them.
 std::string MpmSolver::restored_state_problem() const {
-  const Vec3 lo = setup_.domain.min + Vec3::Constant(dx_), hi = setup_.domain.max - Vec3::Constant(dx_);
+  const Vec3 lo = setup_.domain.min, hi = setup_.domain.max;
   for (std::size_t i = 0; i < x_.size(); ++i) {
     const char* what = !((x_[i].array() >= lo.array()).all() && (x_[i].array() <= hi.array()).all())
-                           ? "a position outside the grid's reach (a cell inside the domain)"
+                           ? "a position outside the domain"
                        : !(j_[i] > 0)       ? "a volume ratio J <= 0"
                        : !(m_[i] > 0)       ? "a mass <= 0"
                        : !(volume0_[i] > 0) ? "an initial volume <= 0"

@@ -20,7 +20,7 @@ namespace bakesim::mpm {
 // (spec 4.2), and the particle's share of the boundary: S β = V_p Σ w k_i.
 template <bool kThermal>
 void MpmSolver::g2p(Real dt) {
-  const Vec3 origin = setup_.domain.min;
+  const Vec3 origin = grid_origin_;
   const std::size_t nz = nz_, syz = std::size_t(ny_) * nz_;
   const Real d_inv = 4.0 * inv_dx_;  // D⁻¹ (x_i − x_p) with offsets in cells: 4/Δx² · Δx
   parallel_for(
@@ -100,6 +100,7 @@ void MpmSolver::g2p(Real dt) {
         set_deformation_gradient(p, df * deformation_gradient(p));
         j_[p] *= df.determinant();
         x_[p] += dt * vp;
+        push_inside_domain(p);
         if (!near_collider_.empty()) {
           // The node nearest the particle's old position (it moves less than a cell).
           const std::size_t nearest =
@@ -159,6 +160,20 @@ void MpmSolver::push_out_of_colliders(std::size_t p) {
     Vec3 rel = v_[p] - vc;
     apply_contact(rel, n, c.contact);
     v_[p] = rel + vc;
+  }
+}
+
+// The domain walls in the same way: a point that ends a step beyond a domain
+// face is put back on it with the domain's contact law on its velocity, so
+// material rests on the domain floor instead of sinking into the guard layer.
+void MpmSolver::push_inside_domain(std::size_t p) {
+  const Aabb& d = setup_.domain;
+  for (int k = 0; k < 3; ++k) {
+    const Real lo = x_[p][k] - d.min[k], hi = d.max[k] - x_[p][k];
+    if (lo >= 0 && hi >= 0) continue;
+    const Vec3 n = lo < 0 ? Vec3(Vec3::Unit(k)) : Vec3(-Vec3::Unit(k));
+    x_[p][k] = lo < 0 ? d.min[k] : d.max[k];
+    apply_contact(v_[p], n, setup_.domain_contact);
   }
 }
 

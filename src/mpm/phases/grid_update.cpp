@@ -24,11 +24,14 @@ namespace bakesim::mpm {
 // saturation s_i for the next flux.
 void MpmSolver::phase_grid(Real dt) {
   ScopedPhase t(timers_, t_grid_);
-  const Vec3 origin = setup_.domain.min;
+  const Vec3 origin = grid_origin_;
   const Vec3 g = setup_.gravity;
-  // The domain walls sit two cells inside the grid so no stencil leaves it.
-  const ColliderGeometry walls =
-      InsideBoxCollider{{setup_.domain.min + Vec3::Constant(2 * dx_), setup_.domain.max - Vec3::Constant(2 * dx_)}};
+  // The domain walls lie on the domain faces (the grid reaches kGuardCells beyond them).
+  const ColliderGeometry walls = InsideBoxCollider{setup_.domain};
+  // A node takes a wall's condition when it lies in the solid or on its face, within
+  // a thousandth of a cell (distance < kNodeOnFace Δx): a face on a node plane holds the same whichever side
+  // round-off puts the node (a sticky plate 2e-18 m off let its channel run free).
+  const Real on_face = kNodeOnFace * dx_;
   const std::size_t nz = nz_, syz = std::size_t(ny_) * nz_;
   // Collider poses at the end of the step, where the nodes' new velocities take the material.
   collider_poses_.resize(setup_.colliders.size());
@@ -78,14 +81,14 @@ void MpmSolver::phase_grid(Real dt) {
               area -= facing * n;
               if (c.temperature) hot.add(facing, c.heat_transfer_coefficient, collider_temperatures_[ci]);
             }
-            if (w.distance > 0) continue;
+            if (w.distance >= on_face) continue;
             const Vec3 vc = pose.velocity_at(xi);
             Vec3 rel = v - vc;
             apply_contact(rel, pose.rotation * w.normal, c.contact);
             v = rel + vc;
           }
           if (!near_collider_.empty()) near_collider_[k] = near;
-          for_each_wall(walls, xi, 0.0,
+          for_each_wall(walls, xi, on_face,
                         [&](const WallContact& w) { apply_contact(v, w.normal, setup_.domain_contact); });
           node.mv[0] = v.x(), node.mv[1] = v.y(), node.mv[2] = v.z();
           if (!exchange) continue;  // the state stays as P2G cleared it: no exchange, θ = 0

@@ -20,7 +20,7 @@ void MpmSolver::phase_heat_implicit(Real dt) {
   ScopedPhase t(timers_, t_heat_);
   const Real dtb = setup_.oven.bake_step(dt);
   const std::size_t nodes = heat_state_.size();
-  const Vec3 origin = setup_.domain.min;
+  const Vec3 origin = grid_origin_;
   const std::size_t nz = nz_, syz = std::size_t(ny_) * nz_;
   const Real gscale = 4.0 * inv_dx_;
   std::vector<Real>& mass = implicit_mass_;

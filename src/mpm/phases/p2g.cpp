@@ -28,7 +28,7 @@ void MpmSolver::p2g(Real dt) {
         }
       },
       1 << 14);
-  const Vec3 origin = setup_.domain.min;
+  const Vec3 origin = grid_origin_;
   const std::size_t nz = nz_, syz = std::size_t(ny_) * nz_;
   const Real d_inv = 4.0 * inv_dx_ * inv_dx_;
   blocks_.for_each_by_colour(x_, origin, inv_dx_, [&](std::uint32_t p, const Axis& ax, const Axis& ay, const Axis& az) {

@@ -9,7 +9,7 @@ namespace bakesim::mpm {
 // particle memory itself follows, so P2G and G2P walk memory in order.
 void MpmSolver::phase_sort() {
   ScopedPhase t(timers_, t_sort_);
-  blocks_.sort(x_, setup_.domain.min, inv_dx_);
+  blocks_.sort(x_, grid_origin_, inv_dx_);
   const int every = std::max(1, setup_.settings.reorder_every);
   if (steps_ % every == 0) {
     particles_.permute(blocks_.order());
