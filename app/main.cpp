@@ -273,8 +273,9 @@ int command_mesh(const MeshArgs& a) {
   for (const auto& w : r.warnings) fmt::print(stderr, "bakesim: warning: {}\n", w);
   const auto& frames = r.frames;
   const std::size_t triangles = r.triangles;
-  fmt::print(stderr, "bakesim: meshed {} frames ({} method, {} triangles in all) in {} into {}/meshes/\n",
-             frames.size(), a.method, triangles, format_duration(clock.seconds()), a.run_dir);
+  fmt::print(stderr, "bakesim: meshed {} frames ({} method, {} triangles in all) in {} into {}/meshes/{}\n",
+             frames.size(), a.method, triangles, format_duration(clock.seconds()), a.run_dir,
+             r.collider_files ? fmt::format(" ({} collider meshes in meshes/colliders/)", r.collider_files) : "");
   return kExitOk;
 }
 

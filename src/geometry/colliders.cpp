@@ -6,6 +6,7 @@
 
 #include <Eigen/Geometry>
 
+#include "core/errors.hpp"
 #include "core/parallel.hpp"
 
 namespace bakesim {
@@ -246,6 +247,39 @@ SegmentHit mesh_segment_hits(const MeshCollider& m, const Vec3& from, const Vec3
     }
   });
   return out;
+}
+
+}  // namespace bakesim
+
+namespace bakesim {
+
+ColliderLook default_look(const ColliderGeometry& geometry) {
+  return std::visit(Overloaded{
+                        [](const PlaneCollider&) { return ColliderLook::wood; },
+                        [](const CylinderCollider&) { return ColliderLook::wood; },
+                        [](const MeshCollider&) { return ColliderLook::ceramic; },
+                        [](const InsideBoxCollider&) { return ColliderLook::hidden; },
+                        [](const auto&) { return ColliderLook::metal; },
+                    },
+                    geometry);
+}
+
+ColliderLook parse_collider_look(const std::string& name, const ColliderGeometry& geometry, const std::string& where) {
+  if (name == "auto") return default_look(geometry);
+  for (ColliderLook look :
+       {ColliderLook::metal, ColliderLook::ceramic, ColliderLook::glass, ColliderLook::wood, ColliderLook::hidden})
+    if (to_string(look) == name) return look;
+  throw InputError(where, "unknown look '" + name + "' (auto, metal, ceramic, glass, wood, hidden)");
+}
+
+std::string to_string(ColliderLook look) {
+  switch (look) {
+    case ColliderLook::metal: return "metal";
+    case ColliderLook::ceramic: return "ceramic";
+    case ColliderLook::glass: return "glass";
+    case ColliderLook::wood: return "wood";
+    default: return "hidden";
+  }
 }
 
 }  // namespace bakesim

@@ -93,9 +93,20 @@ struct MeshCollider {
 using ColliderGeometry = std::variant<PlaneCollider, BoxCollider, ContainerCollider, CylinderCollider, CupCollider,
                                       InsideBoxCollider, MeshCollider>;
 
+// What a collider is made of in pictures (render/): a pan, tray, plate, funnel
+// or board. `hidden` is not drawn (nor exported as a mesh).
+enum class ColliderLook { metal, ceramic, glass, wood, hidden };
+// The look a shape gets when the scene names none: planes are a wooden counter
+// or board, cylinders wood (a rolling pin, a grip), meshes ceramic, boxes,
+// containers and cups metal (trays, tins, pans).
+ColliderLook default_look(const ColliderGeometry& geometry);
+// "auto" is default_look; InputError(where, ...) for other names.
+ColliderLook parse_collider_look(const std::string& name, const ColliderGeometry& geometry, const std::string& where);
+std::string to_string(ColliderLook look);
+
 // One collider for both solvers: its geometry in the rest pose, the contact
-// law (geometry/contact.hpp), an optional scripted rigid motion, and an
-// optional surface temperature.
+// law (geometry/contact.hpp), an optional scripted rigid motion, an
+// optional surface temperature, and how it looks in pictures.
 struct Collider {
   std::string name;
   ColliderGeometry geometry;
@@ -105,6 +116,7 @@ struct Collider {
   // exchange heat with it when set.
   std::optional<PiecewiseLinear> temperature;
   Real heat_transfer_coefficient = 500.0;  // W/(m² K), contact exchange with touching particles
+  ColliderLook look = ColliderLook::metal;
 };
 
 // Contact with a solid axis-aligned box from point p (outside or inside).

@@ -7,6 +7,7 @@
 #include "core/errors.hpp"
 #include "core/timers.hpp"
 #include "io/files.hpp"
+#include "io/run_directory.hpp"
 
 namespace bakesim {
 
@@ -94,6 +95,8 @@ Checkpoint make_checkpoint(const Solver& solver, const std::string& fingerprint,
 RunSummary bake_into(Solver& solver, const Scene& scene, RunOutput& output, FrameLoopConfig cfg,
                      const BakeIntoOptions& options, ProgressBar& progress, spdlog::logger& log) {
   const fs::path out = output.directory();
+  // Where the scene's mesh files are, for the commands that later draw its colliders.
+  if (!options.scene_dir.empty()) record_scene_dir(out, options.scene_dir);
   const std::string fingerprint = scene_fingerprint(scene.resolved);
   Stopwatch since_checkpoint;
   auto save = [&](const Checkpoint& c) {

@@ -97,6 +97,32 @@ void write_marker(const fs::path& dir, const std::string& scene_name) {
   write_file_atomic(dir / kRunMarkerFile, marker.dump(2) + "\n");
 }
 
+}  // namespace
+
+void record_scene_dir(const fs::path& dir, const std::string& scene_dir) {
+  json marker;
+  try {
+    marker = json::parse(read_file(dir / kRunMarkerFile, 1 << 20));
+  } catch (const std::exception&) {
+    return;  // no marker of ours: nothing to add to
+  }
+  if (!marker.is_object() || marker.value("scene_dir", std::string()) == scene_dir) return;
+  marker["scene_dir"] = scene_dir;
+  write_file_atomic(dir / kRunMarkerFile, marker.dump(2) + "\n");
+}
+
+std::string recorded_scene_dir(const fs::path& dir) {
+  try {
+    const json j = json::parse(read_file(dir / kRunMarkerFile, 1 << 20));
+    if (j.is_object() && j.contains("scene_dir") && j["scene_dir"].is_string())
+      return j["scene_dir"].get<std::string>();
+  } catch (const std::exception&) {
+  }
+  return "";
+}
+
+namespace {
+
 // Deletes the files of an earlier moved-aside run in `previous`; refuses when anything else is there.
 void clear_previous(const fs::path& previous) {
   std::error_code ec;

@@ -75,4 +75,10 @@ std::string output_component(const std::string& name);
 // The scene name recorded in DIR's marker ("" when there is no marker).
 std::string run_scene_name(const std::filesystem::path& dir);
 
+// The directory of the run's scene file (where its relative mesh paths
+// resolve), kept in the marker for the commands that draw a finished run's
+// colliders; "" when the marker has none (runs made before it was kept).
+void record_scene_dir(const std::filesystem::path& dir, const std::string& scene_dir);
+std::string recorded_scene_dir(const std::filesystem::path& dir);
+
 }  // namespace bakesim

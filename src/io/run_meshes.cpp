@@ -12,6 +12,8 @@
 #include "io/mesh_files.hpp"
 #include "io/ply_reader.hpp"
 #include "io/run_directory.hpp"
+#include "io/scene_parts.hpp"
+#include "geometry/collider_mesh.hpp"
 
 namespace bakesim {
 
@@ -146,6 +148,7 @@ RunDirectory open_run(const fs::path& dir) {
   } catch (const json::exception& e) {
     throw InputError(scene.string(), std::string("not valid JSON: ") + e.what());
   }
+  r.scene_dir = recorded_scene_dir(dir);
   if (fs::is_directory(dir / "frames"))
     for (const auto& entry : fs::directory_iterator(dir / "frames")) {
       const fs::path& p = entry.path();
@@ -158,6 +161,75 @@ RunDirectory open_run(const fs::path& dir) {
 ParticleSet read_particle_frame(const fs::path& ply) {
   const std::string bytes = read_file(ply);
   return particles_from_ply(parse_ply(bytes, ply.string()), ply.string());
+}
+
+Real frame_time(const RunDirectory& run, int frame) {
+  const double fps = run.scene.contains("time") ? run.scene["time"].value("fps", 30.0) : 30.0;
+  return frame / fps;
+}
+
+std::vector<Collider> run_colliders(const RunDirectory& run, std::vector<std::string>& missing) {
+  std::vector<Collider> out;
+  if (!run.scene.contains("colliders") || !run.scene["colliders"].is_array()) return out;
+  const fs::path scene_file = run.dir / "scene.json";
+  const scene_parts::Ctx c{scene_file.string(),
+                           run.scene_dir.empty() ? fs::absolute(run.dir).parent_path().string() : run.scene_dir};
+  const json& list = run.scene["colliders"];
+  const Oven oven =
+      scene_parts::build_oven(c, run.scene.contains("environment") ? run.scene["environment"] : json::object());
+  const Real cell = run_geometry(run.scene).spacing;
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    try {
+      out.push_back(scene_parts::build_collider(c, list[i], i, cell, FrictionModel::velocity_share, oven));
+    } catch (const InputError& e) {
+      missing.push_back(fmt::format("collider {} not drawn: {}", list[i].value("name", std::to_string(i)), e.what()));
+    }
+  }
+  return out;
+}
+
+std::vector<PosedCollider> posed_colliders(const std::vector<Collider>& colliders, Real time, const Aabb& bodies) {
+  const Vec3 focus = 0.5 * (bodies.min + bodies.max);
+  const Real half_width = 1.5 * std::max(bodies.extent().maxCoeff(), Real(1e-3));
+  std::vector<PosedCollider> out;
+  for (const Collider& c : colliders) {
+    if (c.look == ColliderLook::hidden || std::holds_alternative<InsideBoxCollider>(c.geometry)) continue;
+    PosedCollider p;
+    p.name = c.name;
+    p.look = c.look;
+    p.moves = c.motion.moves();
+    p.bounded = !std::holds_alternative<PlaneCollider>(c.geometry);
+    p.mesh = collider_mesh_at(c, time, focus, half_width);
+    if (!p.mesh.triangles.empty()) out.push_back(std::move(p));
+  }
+  return out;
+}
+
+surface::SurfaceMesh collider_surface(const PosedCollider& collider) {
+  surface::SurfaceMesh m;
+  const TriangleMesh& t = collider.mesh;
+  m.vertices.reserve(t.vertices.size());
+  for (const Vec3& v : t.vertices) m.vertices.push_back(v.cast<float>());
+  std::vector<Vec3> normals(t.vertices.size(), Vec3::Zero());
+  for (std::size_t k = 0; k < t.triangles.size(); ++k) {
+    const auto& tri = t.triangles[k];
+    const Vec3 area = (t.vertices[tri[1]] - t.vertices[tri[0]]).cross(t.vertices[tri[2]] - t.vertices[tri[0]]);
+    for (int v : tri) normals[std::size_t(v)] += area;
+    m.triangles.push_back({std::uint32_t(tri[0]), std::uint32_t(tri[1]), std::uint32_t(tri[2])});
+  }
+  for (const Vec3& n : normals) m.normals.push_back((n.norm() > 0 ? n.normalized() : Vec3::UnitY()).cast<float>());
+  // The look's albedo in sRGB, as the pictures show it.
+  const auto colour = [&] {
+    static const std::map<ColliderLook, std::array<std::uint8_t, 3>> kColours = {
+        {ColliderLook::metal, {173, 175, 178}},
+        {ColliderLook::ceramic, {231, 228, 220}},
+        {ColliderLook::glass, {243, 250, 251}},
+        {ColliderLook::wood, {172, 136, 97}}};
+    const auto it = kColours.find(collider.look);
+    return it == kColours.end() ? std::array<std::uint8_t, 3>{128, 128, 128} : it->second;
+  }();
+  m.colours.assign(m.vertices.size(), colour);
+  return m;
 }
 
 MeshRunResult mesh_run(const fs::path& dir, const MeshSettings& settings, std::vector<int> frames) {
@@ -179,6 +251,24 @@ MeshRunResult mesh_run(const fs::path& dir, const MeshSettings& settings, std::v
     if (!q.closed_and_oriented())
       result.warnings.push_back(fmt::format("frame {} mesh has {} open, {} non-manifold and {} misoriented edges", f,
                                             q.boundary_edges, q.non_manifold_edges, q.misoriented_edges));
+  }
+  // The colliders beside the bodies: once if they stay put, per frame if they move.
+  std::vector<std::string> missing;
+  const std::vector<Collider> colliders = run_colliders(run, missing);
+  result.warnings.insert(result.warnings.end(), missing.begin(), missing.end());
+  if (!colliders.empty() && !frames.empty()) {
+    const fs::path out = run.dir / "meshes" / "colliders";
+    Aabb first = Aabb::empty_box();
+    for (const Vec3& x : read_particle_frame(run.frames.at(frames.front())).vector("position")) first.expand(x);
+    for (std::size_t k = 0; k < frames.size(); ++k)
+      for (const PosedCollider& p : posed_colliders(colliders, frame_time(run, frames[k]), first)) {
+        if (!p.moves && k > 0) continue;
+        ensure_directory(out);
+        const std::string file = p.moves ? fmt::format("{}-{}.ply", output_component(p.name), frame_stem(frames[k]))
+                                         : output_component(p.name) + ".ply";
+        write_file_atomic(out / file, encode_mesh_ply(collider_surface(p)));
+        ++result.collider_files;
+      }
   }
   return result;
 }

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "core/particles.hpp"
+#include "geometry/colliders.hpp"
 #include "surface/surface.hpp"
 
 namespace bakesim {
@@ -53,16 +54,43 @@ struct RunDirectory {
   std::filesystem::path dir;
   nlohmann::json scene;                         // scene.json, resolved
   std::map<int, std::filesystem::path> frames;  // frame number → frames/NNNNN.ply
+  std::string scene_dir;                        // where the scene's mesh paths resolve ("" unknown)
 };
 RunDirectory open_run(const std::filesystem::path& dir);  // InputError when it is not a run directory
 ParticleSet read_particle_frame(const std::filesystem::path& ply);
+// Simulated time of a frame (frame / time.fps).
+Real frame_time(const RunDirectory& run, int frame);
+
+// The run's colliders as its scene builds them. A mesh collider whose file
+// is no longer where the scene was (relative paths resolve in the recorded
+// scene directory, else beside the run directory) is left out, with a line
+// in `missing` saying so.
+std::vector<Collider> run_colliders(const RunDirectory& run, std::vector<std::string>& missing);
+
+// A collider drawn or exported at one time (geometry/collider_mesh.hpp): planes
+// as a slab under the bodies, three body sizes across; domain walls and hidden
+// colliders are left out.
+struct PosedCollider {
+  std::string name;
+  ColliderLook look = ColliderLook::metal;
+  bool moves = false;   // scripted motion: its mesh differs from frame to frame
+  bool bounded = true;  // false for planes (their slab's size is arbitrary)
+  TriangleMesh mesh;
+};
+std::vector<PosedCollider> posed_colliders(const std::vector<Collider>& colliders, Real time, const Aabb& bodies);
+// The look's colour (sRGB) on every vertex, area-weighted vertex normals.
+surface::SurfaceMesh collider_surface(const PosedCollider& collider);
 
 // `bakesim mesh RUN_DIR`: meshes `frames` (all the run's frames when empty)
-// into RUN_DIR/meshes/, holding the run directory's lock while it writes.
+// into RUN_DIR/meshes/, holding the run directory's lock while it writes; the
+// colliders into RUN_DIR/meshes/colliders/: NAME.ply once for one that stays
+// put, NAME-NNNNN.ply per frame for one that moves (planes' slabs sized to the
+// first meshed frame's bodies).
 struct MeshRunResult {
   std::vector<int> frames;
   std::size_t triangles = 0;
-  std::vector<std::string> warnings;  // frames whose mesh is not closed and oriented
+  std::vector<std::string> warnings;  // frames whose mesh is not closed and oriented; colliders left out
+  std::size_t collider_files = 0;
 };
 MeshRunResult mesh_run(const std::filesystem::path& dir, const MeshSettings& settings, std::vector<int> frames = {});
 

@@ -223,6 +223,7 @@ Collider build_collider(const Ctx& c, const json& cj, std::size_t i, Real cell, 
   else if (!cj["temperature"].is_null())
     col.temperature = build_schedule(c, path + ".temperature", cj["temperature"]);
   col.heat_transfer_coefficient = cj["heat_transfer_coefficient"].get<double>();
+  col.look = parse_collider_look(cj["look"].get<std::string>(), col.geometry, c.file + ": " + path + ".look");
   return col;
 }
 

@@ -31,35 +31,47 @@ Camera frame_camera(const Aabb& box, Real aspect, Real fov) {
 
 namespace {
 
-// Embree device and scene, released together.
+// Embree device and scenes, released together: `scene` holds everything a
+// camera ray can hit; `opaque` (only made when glass is drawn) everything that
+// casts a shadow.
 struct RayScene {
   RTCDevice device = nullptr;
-  RTCScene scene = nullptr;
+  RTCScene scene = nullptr, opaque = nullptr;
   unsigned ground = RTC_INVALID_GEOMETRY_ID, object = RTC_INVALID_GEOMETRY_ID;
-  RayScene() {
+  explicit RayScene(bool with_glass = false) {
     device = rtcNewDevice("threads=1");  // rays are cast from our own parallel loop
     if (!device) throw Error("render: Embree could not create a device");
     scene = rtcNewScene(device);
+    if (with_glass) opaque = rtcNewScene(device);
   }
   ~RayScene() {
+    if (opaque) rtcReleaseScene(opaque);
     if (scene) rtcReleaseScene(scene);
     if (device) rtcReleaseDevice(device);
   }
   RayScene(const RayScene&) = delete;
   RayScene& operator=(const RayScene&) = delete;
 
-  unsigned add_triangles(const std::vector<Vec3f>& v, const std::vector<std::array<std::uint32_t, 3>>& t) {
+  RTCScene shadow_scene() const { return opaque ? opaque : scene; }
+  unsigned attach(RTCGeometry g, bool casts_shadow) {
+    rtcCommitGeometry(g);
+    const unsigned id = rtcAttachGeometry(scene, g);
+    if (opaque && casts_shadow) rtcAttachGeometry(opaque, g);
+    rtcReleaseGeometry(g);
+    return id;
+  }
+  template <class Index>
+  unsigned add_triangles(const std::vector<Vec3f>& v, const std::vector<std::array<Index, 3>>& t,
+                         bool casts_shadow = true) {
     RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
     auto* vb = static_cast<float*>(
         rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), v.size()));
     auto* ib = static_cast<unsigned*>(
         rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), t.size()));
     for (std::size_t i = 0; i < v.size(); ++i) vb[3 * i] = v[i].x(), vb[3 * i + 1] = v[i].y(), vb[3 * i + 2] = v[i].z();
-    for (std::size_t i = 0; i < t.size(); ++i) ib[3 * i] = t[i][0], ib[3 * i + 1] = t[i][1], ib[3 * i + 2] = t[i][2];
-    rtcCommitGeometry(g);
-    const unsigned id = rtcAttachGeometry(scene, g);
-    rtcReleaseGeometry(g);
-    return id;
+    for (std::size_t i = 0; i < t.size(); ++i)
+      ib[3 * i] = unsigned(t[i][0]), ib[3 * i + 1] = unsigned(t[i][1]), ib[3 * i + 2] = unsigned(t[i][2]);
+    return attach(g, casts_shadow);
   }
   unsigned add_spheres(const std::vector<Vec3>& p, float radius) {
     RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
@@ -68,12 +80,27 @@ struct RayScene {
     for (std::size_t i = 0; i < p.size(); ++i)
       vb[4 * i] = float(p[i].x()), vb[4 * i + 1] = float(p[i].y()), vb[4 * i + 2] = float(p[i].z()),
              vb[4 * i + 3] = radius;
-    rtcCommitGeometry(g);
-    const unsigned id = rtcAttachGeometry(scene, g);
-    rtcReleaseGeometry(g);
-    return id;
+    return attach(g, true);
   }
 };
+
+bool any_glass(const std::vector<Prop>& props) {
+  return std::any_of(props.begin(), props.end(), [](const Prop& p) { return p.look == ColliderLook::glass; });
+}
+
+// How a look reflects light: its highlight's strength and sharpness, and how
+// much of the sky it mirrors (metal).
+struct LookShading {
+  float specular, exponent, mirror;
+};
+LookShading look_shading(ColliderLook look) {
+  switch (look) {
+    case ColliderLook::metal: return {0.35f, 40.0f, 0.35f};
+    case ColliderLook::ceramic: return {0.3f, 90.0f, 0.06f};
+    case ColliderLook::glass: return {0.6f, 150.0f, 0.0f};  // reflects by Fresnel's law instead
+    default: return {0.04f, 12.0f, 0.0f};                   // wood
+  }
+}
 
 // Per-pixel random numbers (a hash, so pixels are independent of scheduling).
 struct Random {
@@ -134,25 +161,68 @@ void draw_colour_bar(Image& img, const ColourBar& bar, const TextRenderer& text)
   text.draw(img, (x0 + x1) / 2, y0 - 14, bar.label, 15, {30, 30, 30}, Align::centre);
 }
 
+// A prop's triangles in single precision, its bounds, and its Embree geometry id.
+struct PlacedProp {
+  const Prop* prop;
+  Aabb box;
+  unsigned id;
+};
+
+// Wood: darker bands across the longest side of the prop's box (the grain of
+// a board or a rolling pin), gently wavy.
+float wood_grain(const Aabb& box, const Vec3f& p) {
+  const Vec3 e = box.extent();
+  int a = 0;
+  for (int k = 1; k < 3; ++k)
+    if (e[k] > e[a]) a = k;
+  const float length = float(std::max(e[a], 1e-6));
+  const int b = (a + 1) % 3, c = (a + 2) % 3;
+  const float u = (p[a] - float(box.min[a])) / length;
+  const float v = (p[b] - float(box.min[b])) / length + 0.6f * (p[c] - float(box.min[c])) / length;
+  const float ring = 0.5f + 0.5f * std::sin(2 * 3.14159265f * (18 * v + 0.4f * std::sin(2 * 3.14159265f * 2.5f * u)));
+  return 0.8f + 0.2f * ring;
+}
+
 // surface_at(hit, albedo, normal): the object's albedo and shading normal at
 // a hit (a template parameter, so the per-sample call is inlined).
 template <class SurfaceAt>
-Image trace(RayScene& rs, const Aabb& box, const RenderSettings& s, const SurfaceAt& surface_at,
-            const TextRenderer& text, const ColourBar* bar, const std::string& caption) {
-  const float ground_y = float(box.min.y());
-  const Real radius = std::max(0.5 * box.extent().norm(), 1e-4);
+Image trace(RayScene& rs, const Aabb& bodies, const RenderSettings& s, const SurfaceAt& surface_at,
+            const TextRenderer& text, const ColourBar* bar, const std::string& caption,
+            const std::vector<Prop>& props) {
+  const Real radius = std::max(0.5 * bodies.extent().norm(), 1e-4);
+  // Props, and what the automatic camera frames: the bodies and the parts of
+  // props within one body size of them.
+  std::vector<PlacedProp> placed;
+  std::vector<int> prop_of_geometry;
+  const Aabb frame = framing_box(bodies, props);
+  Real lowest = bodies.min.y();
+  for (const Prop& prop : props) {
+    if (prop.look == ColliderLook::hidden || prop.mesh.triangles.empty()) continue;
+    std::vector<Vec3f> v;
+    v.reserve(prop.mesh.vertices.size());
+    Aabb box = Aabb::empty_box();
+    for (const Vec3& x : prop.mesh.vertices) v.push_back(x.cast<float>()), box.expand(x);
+    const unsigned id = rs.add_triangles(v, prop.mesh.triangles, prop.look != ColliderLook::glass);
+    if (prop_of_geometry.size() <= id) prop_of_geometry.resize(id + 1, -1);
+    prop_of_geometry[id] = int(placed.size());
+    placed.push_back({&prop, box, id});
+    lowest = std::min(lowest, box.min.y());
+  }
+  const float ground_y = float(lowest);
   {
-    // A ground plane under the bodies, large enough to reach the horizon haze.
+    // A ground plane under everything, large enough to reach the horizon haze.
     const float g = float(60 * radius);
-    const Vec3 c = 0.5 * (box.min + box.max);
+    const Vec3 c = 0.5 * (bodies.min + bodies.max);
     const float cx = float(c.x()), cz = float(c.z()), y = ground_y - float(1e-4 * radius);
-    rs.ground = rs.add_triangles(
-        {Vec3f(cx - g, y, cz - g), Vec3f(cx + g, y, cz - g), Vec3f(cx + g, y, cz + g), Vec3f(cx - g, y, cz + g)},
-        {{0, 2, 1}, {0, 3, 2}});
+    rs.ground = rs.add_triangles(std::vector<Vec3f>{Vec3f(cx - g, y, cz - g), Vec3f(cx + g, y, cz - g),
+                                                    Vec3f(cx + g, y, cz + g), Vec3f(cx - g, y, cz + g)},
+                                 std::vector<std::array<unsigned, 3>>{{0, 2, 1}, {0, 3, 2}});
   }
   rtcCommitScene(rs.scene);
+  if (rs.opaque) rtcCommitScene(rs.opaque);
+  const RTCScene shadows = rs.shadow_scene();
   const Real aspect = Real(s.width) / Real(s.height);
-  const Camera cam = s.camera ? *s.camera : frame_camera(box, aspect);
+  const Camera cam = s.camera ? *s.camera : frame_camera(frame, aspect);
   const Vec3f eye = cam.position.cast<float>();
   const Vec3f forward = (cam.look_at - cam.position).normalized().cast<float>();
   Vec3f right = forward.cross(Vec3f(0, 1, 0));
@@ -169,6 +239,7 @@ Image trace(RayScene& rs, const Aabb& box, const RenderSettings& s, const Surfac
     const float t = std::clamp(d.y() * 1.5f, 0.0f, 1.0f);
     return Vec3f(0.93f, 0.93f, 0.92f) * (1 - t) + Vec3f(0.62f, 0.70f, 0.80f) * t;
   };
+  constexpr int kMaxGlassLayers = 8;  // a glass funnel over a glass cup: eight faces
   Image img(s.width, s.height);
   const int n_side = std::max(1, int(std::lround(std::sqrt(double(s.samples)))));
   parallel_for(
@@ -184,59 +255,92 @@ Image trace(RayScene& rs, const Aabb& box, const RenderSettings& s, const Surfac
             const float px = (2.0f * (float(x) + jx) / float(s.width) - 1.0f) * tan_half * float(aspect);
             const float py = (1.0f - 2.0f * (float(y) + jy) / float(s.height)) * tan_half;
             const Vec3f dir = (forward + px * right + py * up).normalized();
-            RTCIntersectContext ctx;
-            rtcInitIntersectContext(&ctx);
-            RTCRayHit rh{};
-            rh.ray.org_x = eye.x(), rh.ray.org_y = eye.y(), rh.ray.org_z = eye.z();
-            rh.ray.dir_x = dir.x(), rh.ray.dir_y = dir.y(), rh.ray.dir_z = dir.z();
-            rh.ray.tnear = 0, rh.ray.tfar = std::numeric_limits<float>::infinity(), rh.ray.mask = 0xffffffffu;
-            rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-            rtcIntersect1(rs.scene, &ctx, &rh);
-            if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
-              sum += background(dir);
-              continue;
-            }
-            const Vec3f p = eye + rh.ray.tfar * dir;
-            Vec3f albedo, n;
-            const bool ground = rh.hit.geomID == rs.ground;
-            if (ground) {
-              albedo = Vec3f(0.78f, 0.76f, 0.73f);
-              n = Vec3f(0, 1, 0);
-            } else {
-              surface_at(rh.hit, albedo, n);
-              if (n.dot(dir) > 0) n = -n;
-            }
-            const Vec3f o = p + eps * n;
-            Vec3f t, b;
-            orthonormal_basis(key, t, b);
-            float visible = 0;
-            for (int j = 0; j < s.shadow_samples; ++j) {
-              const float a = 6.2831853f * rng.uniform(), r = 0.06f * std::sqrt(rng.uniform());  // soft: a light of ~7°
-              const Vec3f l = (key + r * (std::cos(a) * t + std::sin(a) * b)).normalized();
-              if (!occluded(rs.scene, o, l, std::numeric_limits<float>::infinity())) visible += 1;
-            }
-            visible /= float(std::max(1, s.shadow_samples));
-            Vec3f nt, nb;
-            orthonormal_basis(n, nt, nb);
-            float open = 0;
-            for (int j = 0; j < s.occlusion_samples; ++j) {
-              const float a = 6.2831853f * rng.uniform(), r2 = rng.uniform(), r = std::sqrt(r2);
-              const Vec3f d = (r * std::cos(a) * nt + r * std::sin(a) * nb + std::sqrt(1 - r2) * n).normalized();
-              if (!occluded(rs.scene, o, d, ao_reach)) open += 1;
-            }
-            open = s.occlusion_samples > 0 ? open / float(s.occlusion_samples) : 1.0f;
-            Vec3f light = key_colour * (std::max(0.0f, n.dot(key)) * visible) +
-                          fill_colour * std::max(0.0f, n.dot(fill)) + sky_colour * ((0.6f + 0.4f * n.y()) * open);
-            Vec3f c = albedo.cwiseProduct(light);
-            if (!ground) {
+            Vec3f origin = eye, throughput = Vec3f::Ones();
+            for (int layer = 0;; ++layer) {
+              RTCIntersectContext ctx;
+              rtcInitIntersectContext(&ctx);
+              RTCRayHit rh{};
+              rh.ray.org_x = origin.x(), rh.ray.org_y = origin.y(), rh.ray.org_z = origin.z();
+              rh.ray.dir_x = dir.x(), rh.ray.dir_y = dir.y(), rh.ray.dir_z = dir.z();
+              rh.ray.tnear = 0, rh.ray.tfar = std::numeric_limits<float>::infinity(), rh.ray.mask = 0xffffffffu;
+              rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+              rtcIntersect1(rs.scene, &ctx, &rh);
+              if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
+                sum += throughput.cwiseProduct(background(dir));
+                break;
+              }
+              const Vec3f p = origin + rh.ray.tfar * dir;
+              const bool ground = rh.hit.geomID == rs.ground;
+              const int prop_index = rh.hit.geomID < prop_of_geometry.size() ? prop_of_geometry[rh.hit.geomID] : -1;
+              const PlacedProp* prop = prop_index >= 0 ? &placed[std::size_t(prop_index)] : nullptr;
+              Vec3f albedo, n;
+              if (ground) {
+                albedo = Vec3f(0.78f, 0.76f, 0.73f);
+                n = Vec3f(0, 1, 0);
+              } else if (prop) {
+                albedo = look_albedo(prop->prop->look);
+                if (prop->prop->look == ColliderLook::wood) albedo *= wood_grain(prop->box, p);
+                n = Vec3f(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z).normalized();
+                if (n.dot(dir) > 0) n = -n;
+              } else {
+                surface_at(rh.hit, albedo, n);
+                if (n.dot(dir) > 0) n = -n;
+              }
               const Vec3f h = (key - dir).normalized();
-              c += Vec3f::Constant(0.12f * visible * std::pow(std::max(0.0f, n.dot(h)), 30.0f));
-            } else {
-              const float haze =
-                  1.0f - std::exp(-float((p - 0.5f * (box.min + box.max).cast<float>()).norm() / (12.0 * radius)));
-              c = c * (1 - haze) + background(dir) * haze;
+              if (prop && prop->prop->look == ColliderLook::glass) {
+                // Glass: the sky reflected by Schlick's Fresnel factor (4% head-on, more at
+                // grazing angles, so rims show) and a highlight; the rest goes on through, tinted.
+                const LookShading g = look_shading(ColliderLook::glass);
+                const Vec3f mirrored = dir - 2 * dir.dot(n) * n;
+                const float reflected = 0.04f + 0.96f * std::pow(1.0f - std::min(1.0f, -dir.dot(n)), 5.0f);
+                sum += throughput.cwiseProduct(
+                    reflected * background(mirrored) +
+                    Vec3f::Constant(g.specular * std::pow(std::max(0.0f, n.dot(h)), g.exponent)));
+                throughput = throughput.cwiseProduct((1 - reflected) * albedo);
+                origin = p + 4 * eps * dir;
+                if (layer + 1 < kMaxGlassLayers) continue;
+                sum += throughput.cwiseProduct(background(dir));
+                break;
+              }
+              const Vec3f o = p + eps * n;
+              Vec3f t, b;
+              orthonormal_basis(key, t, b);
+              float visible = 0;
+              for (int j = 0; j < s.shadow_samples; ++j) {
+                const float a = 6.2831853f * rng.uniform(),
+                            r = 0.06f * std::sqrt(rng.uniform());  // soft: a light of ~7°
+                const Vec3f l = (key + r * (std::cos(a) * t + std::sin(a) * b)).normalized();
+                if (!occluded(shadows, o, l, std::numeric_limits<float>::infinity())) visible += 1;
+              }
+              visible /= float(std::max(1, s.shadow_samples));
+              Vec3f nt, nb;
+              orthonormal_basis(n, nt, nb);
+              float open = 0;
+              for (int j = 0; j < s.occlusion_samples; ++j) {
+                const float a = 6.2831853f * rng.uniform(), r2 = rng.uniform(), r = std::sqrt(r2);
+                const Vec3f d = (r * std::cos(a) * nt + r * std::sin(a) * nb + std::sqrt(1 - r2) * n).normalized();
+                if (!occluded(shadows, o, d, ao_reach)) open += 1;
+              }
+              open = s.occlusion_samples > 0 ? open / float(s.occlusion_samples) : 1.0f;
+              Vec3f light = key_colour * (std::max(0.0f, n.dot(key)) * visible) +
+                            fill_colour * std::max(0.0f, n.dot(fill)) + sky_colour * ((0.6f + 0.4f * n.y()) * open);
+              Vec3f c = albedo.cwiseProduct(light);
+              if (ground) {
+                const float haze =
+                    1.0f -
+                    std::exp(-float((p - 0.5f * (bodies.min + bodies.max).cast<float>()).norm() / (12.0 * radius)));
+                c = c * (1 - haze) + background(dir) * haze;
+              } else if (prop) {
+                const LookShading l = look_shading(prop->prop->look);
+                const Vec3f mirrored = dir - 2 * dir.dot(n) * n;
+                c += l.mirror * open * albedo.cwiseProduct(background(mirrored));
+                c += Vec3f::Constant(l.specular * visible * std::pow(std::max(0.0f, n.dot(h)), l.exponent));
+              } else {
+                c += Vec3f::Constant(0.12f * visible * std::pow(std::max(0.0f, n.dot(h)), 30.0f));
+              }
+              sum += throughput.cwiseProduct(c);
+              break;
             }
-            sum += c;
           }
           sum /= float(n_side * n_side);
           img.set(x, y, {linear_to_srgb(sum.x()), linear_to_srgb(sum.y()), linear_to_srgb(sum.z())});
@@ -250,10 +354,34 @@ Image trace(RayScene& rs, const Aabb& box, const RenderSettings& s, const Surfac
 
 }  // namespace
 
+Aabb framing_box(const Aabb& bodies, const std::vector<Prop>& props) {
+  Aabb frame = bodies, near = bodies;
+  near.min.array() -= bodies.extent().maxCoeff();
+  near.max.array() += bodies.extent().maxCoeff();
+  for (const Prop& prop : props) {
+    if (!prop.frame || prop.look == ColliderLook::hidden) continue;
+    Aabb box = Aabb::empty_box();
+    for (const Vec3& x : prop.mesh.vertices) box.expand(x);
+    const Aabb clipped{box.min.cwiseMax(near.min), box.max.cwiseMin(near.max)};
+    if ((clipped.min.array() <= clipped.max.array()).all()) frame.expand(clipped.min), frame.expand(clipped.max);
+  }
+  return frame;
+}
+
+Eigen::Vector3f look_albedo(ColliderLook look) {
+  switch (look) {
+    case ColliderLook::metal: return {0.42f, 0.43f, 0.45f};    // aluminium or tinned steel
+    case ColliderLook::ceramic: return {0.80f, 0.78f, 0.72f};  // glazed white
+    case ColliderLook::glass: return {0.95f, 0.98f, 0.98f};    // what one face lets through, tinted
+    case ColliderLook::wood: return {0.42f, 0.25f, 0.12f};     // a beech board
+    default: return {0.5f, 0.5f, 0.5f};
+  }
+}
+
 Image render_mesh(const surface::SurfaceMesh& mesh, const RenderSettings& s, const TextRenderer& text,
-                  const ColourBar* bar, const std::string& caption) {
+                  const ColourBar* bar, const std::string& caption, const std::vector<Prop>& props) {
   if (mesh.triangles.empty()) throw InputError("render", "the mesh is empty: nothing to draw");
-  RayScene rs;
+  RayScene rs(any_glass(props));
   rs.object = rs.add_triangles(mesh.vertices, mesh.triangles);
   Aabb box = Aabb::empty_box();
   for (const auto& v : mesh.vertices) box.expand(v.cast<Real>());
@@ -272,13 +400,13 @@ Image render_mesh(const surface::SurfaceMesh& mesh, const RenderSettings& s, con
     else
       n = Vec3f(hit.Ng_x, hit.Ng_y, hit.Ng_z).normalized();
   };
-  return trace(rs, box, s, surface_at, text, bar, caption);
+  return trace(rs, box, s, surface_at, text, bar, caption, props);
 }
 
 Image render_particles(const ParticleView& pv, const RenderSettings& s, const TextRenderer& text, const ColourBar* bar,
-                       const std::string& caption) {
+                       const std::string& caption, const std::vector<Prop>& props) {
   if (pv.position.empty()) throw InputError("render", "the frame has no particles: nothing to draw");
-  RayScene rs;
+  RayScene rs(any_glass(props));
   rs.object = rs.add_spheres(pv.position, float(pv.radius));
   Aabb box = Aabb::empty_box();
   for (const auto& p : pv.position) box.expand(p);
@@ -288,7 +416,7 @@ Image render_particles(const ParticleView& pv, const RenderSettings& s, const Te
     albedo = hit.primID < pv.colour.size() ? srgb_to_linear(pv.colour[hit.primID]) : Vec3f(0.7f, 0.7f, 0.7f);
     n = Vec3f(hit.Ng_x, hit.Ng_y, hit.Ng_z).normalized();
   };
-  return trace(rs, box, s, surface_at, text, bar, caption);
+  return trace(rs, box, s, surface_at, text, bar, caption, props);
 }
 
 }  // namespace bakesim::render

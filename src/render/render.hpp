@@ -12,6 +12,8 @@
 #include <vector>
 
 #include "core/types.hpp"
+#include "geometry/colliders.hpp"
+#include "geometry/mesh.hpp"
 #include "io/image.hpp"
 #include "render/text.hpp"
 #include "surface/surface.hpp"
@@ -49,9 +51,32 @@ struct ParticleView {
   Real radius = 0.005;
 };
 
+// A collider in the picture (geometry/collider_mesh.hpp): its triangles at the
+// frame's pose and what it is made of. Metal, ceramic and wood are opaque
+// (wood with a grain along the longest side of its box); each glass face
+// reflects the sky by Schlick's Fresnel factor (4% head-on) and lets the rest
+// through, slightly tinted; glass casts no shadow. `frame`: the
+// automatic camera keeps it in view (as far as it lies near the bodies); planes'
+// slabs are not framed.
+struct Prop {
+  TriangleMesh mesh;
+  ColliderLook look = ColliderLook::metal;
+  bool frame = true;
+};
+
+// What the automatic camera frames: the bodies and the parts of framed props
+// within one body size of them.
+Aabb framing_box(const Aabb& bodies, const std::vector<Prop>& props);
+
+// Linear albedo of a look (what the pictures shade it with, before grain).
+Eigen::Vector3f look_albedo(ColliderLook look);
+
+// The ground plane lies under the lowest body or prop; the automatic camera
+// frames the bodies and the parts of props within one body size of them.
 Image render_mesh(const surface::SurfaceMesh& mesh, const RenderSettings& settings, const TextRenderer& text,
-                  const ColourBar* bar = nullptr, const std::string& caption = "");
+                  const ColourBar* bar = nullptr, const std::string& caption = "", const std::vector<Prop>& props = {});
 Image render_particles(const ParticleView& particles, const RenderSettings& settings, const TextRenderer& text,
-                       const ColourBar* bar = nullptr, const std::string& caption = "");
+                       const ColourBar* bar = nullptr, const std::string& caption = "",
+                       const std::vector<Prop>& props = {});
 
 }  // namespace bakesim::render

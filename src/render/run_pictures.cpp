@@ -70,16 +70,32 @@ RenderRunResult render_run(const fs::path& run_dir, const RenderRunOptions& o) {
     cam.field_of_view = c.value("field_of_view", 35.0);
     settings.camera = cam;
   }
-  // One camera for the whole sequence: it frames every rendered frame's particles.
-  std::vector<ParticleSet> loaded;
+  // The colliders, drawn at each frame's pose; planes as a slab sized to every rendered frame's bodies.
+  std::vector<std::string> missing;
+  const std::vector<Collider> colliders = run_colliders(run, missing);
+  Aabb bodies = Aabb::empty_box();
+  for (int f : frames) {
+    const ParticleSet ps = read_particle_frame(run.frames.at(f));
+    for (const Vec3& x : ps.vector("position")) bodies.expand(x);
+  }
+  bodies.min.array() -= geometry.spacing;
+  bodies.max.array() += geometry.spacing;
+  const auto props_at = [&](int f) {
+    std::vector<Prop> props;
+    for (PosedCollider& c : posed_colliders(colliders, frame_time(run, f), bodies))
+      props.push_back({std::move(c.mesh), c.look, c.bounded});
+    return props;
+  };
+  // One camera for the whole sequence: it frames every rendered frame's particles and the colliders near them.
   if (!settings.camera) {
-    Aabb box = Aabb::empty_box();
+    Aabb box = bodies;
     for (int f : frames) {
-      const ParticleSet ps = read_particle_frame(run.frames.at(f));
-      for (const Vec3& x : ps.vector("position")) box.expand(x);
+      const Aabb framed = framing_box(bodies, props_at(f));
+      box.expand(framed.min), box.expand(framed.max);
+      if (colliders.empty() ||
+          std::none_of(colliders.begin(), colliders.end(), [](const Collider& c) { return c.motion.moves(); }))
+        break;  // every frame frames the same
     }
-    box.min.array() -= geometry.spacing;
-    box.max.array() += geometry.spacing;
     settings.camera = frame_camera(box, Real(settings.width) / Real(settings.height));
   }
   const TextRenderer text;
@@ -111,7 +127,7 @@ RenderRunResult render_run(const fs::path& run_dir, const RenderRunOptions& o) {
       const surface::SurfaceMesh mesh = frame_mesh(ps, geometry, mesh_opts);
       // Dough vertices show palette(0.15 + 0.8 value) (Eq 4.7); the bar shows the same.
       bar.palette_offset = 0.15, bar.palette_scale = 0.8;
-      img = render_mesh(mesh, settings, text, &bar, caption);
+      img = render_mesh(mesh, settings, text, &bar, caption, props_at(f));
     } else {
       ParticleView pv;
       pv.position = ps.vector("position");
@@ -119,27 +135,26 @@ RenderRunResult render_run(const fs::path& run_dir, const RenderRunOptions& o) {
       for (Real v : values)
         pv.colour.push_back(surface::palette_colour(bar.palette, (v - range.first) / (range.second - range.first)));
       pv.radius = 0.5 * geometry.spacing;
-      img = render_particles(pv, settings, text, &bar, caption);
+      img = render_particles(pv, settings, text, &bar, caption, props_at(f));
     }
     const fs::path file = out_dir / (stem + "-" + frame_stem(f) + ".png");
     write_file_atomic(file, encode_png(img));
     result.images.push_back(file);
   }
   if (o.strip && !result.images.empty()) {
-    // Up to six frames, evenly spread, in a row of thirds of the picture size.
+    // Up to six frames, evenly spread, in a row of full-size pictures.
     const std::size_t n = std::min<std::size_t>(6, result.images.size());
     std::vector<Image> tiles;
     for (std::size_t k = 0; k < n; ++k) {
       const std::size_t i = n == 1 ? 0 : k * (result.images.size() - 1) / (n - 1);
       const int f = frames[i];
-      // Rendered again at a third of the size (cheaper than keeping every full picture).
-      RenderSettings small = settings;
-      small.width = std::max(16, settings.width / 3), small.height = std::max(16, settings.height / 3);
+      // Rendered again at the full picture size, without the colour bar, captioned with the bake time only.
+      const RenderSettings& tile = settings;
       const ParticleSet ps = read_particle_frame(run.frames.at(f));
       const double bake = f / fps * bake_scale;
       const std::string caption = bake >= 120 ? fmt::format("{:.1f} min", bake / 60) : fmt::format("{:.2f} s", bake);
       if (o.mode == "mesh") {
-        tiles.push_back(render_mesh(frame_mesh(ps, geometry, mesh_opts), small, text, nullptr, caption));
+        tiles.push_back(render_mesh(frame_mesh(ps, geometry, mesh_opts), tile, text, nullptr, caption, props_at(f)));
       } else {
         ParticleView pv;
         pv.position = ps.vector("position");
@@ -148,7 +163,7 @@ RenderRunResult render_run(const fs::path& run_dir, const RenderRunOptions& o) {
           pv.colour.push_back(
               surface::palette_colour(colour_palette(o.colour), (v - range.first) / (range.second - range.first)));
         pv.radius = 0.5 * geometry.spacing;
-        tiles.push_back(render_particles(pv, small, text, nullptr, caption));
+        tiles.push_back(render_particles(pv, tile, text, nullptr, caption, props_at(f)));
       }
     }
     Image strip(int(n) * tiles[0].width, tiles[0].height);
@@ -156,11 +171,13 @@ RenderRunResult render_run(const fs::path& run_dir, const RenderRunOptions& o) {
     result.strip = out_dir / (stem + "-strip.png");
     write_file_atomic(*result.strip, encode_png(strip));
   }
+  for (const std::string& m : missing) result.note += (result.note.empty() ? "" : "; ") + m;
   if (o.movie) {
     if (!has_program("ffmpeg")) {
-      result.note = "no movie: ffmpeg is not installed (apt-get install ffmpeg)";
+      result.note +=
+          std::string(result.note.empty() ? "" : "; ") + "no movie: ffmpeg is not installed (apt-get install ffmpeg)";
     } else if (result.images.size() < 2) {
-      result.note = "no movie: only one frame was rendered (use --all)";
+      result.note += std::string(result.note.empty() ? "" : "; ") + "no movie: only one frame was rendered (use --all)";
     } else {
       const fs::path movie = out_dir / (stem + ".mp4");
       const double movie_fps = std::clamp(fps, 1.0, 60.0);

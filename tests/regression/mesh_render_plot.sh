@@ -23,6 +23,24 @@ check '[ $? -eq 0 ] && png "$OUT/sph/render/particles-temperature-00000.png" && 
 "$BAKESIM" plot "$OUT/sph" >"$OUT/plots.txt"
 check '[ $? -eq 0 ] && png "$OUT/sph/plots/temperatures.png"' "sph: plot writes temperatures.png"
 
+# Colliders: drawn in the pictures and exported beside the body meshes, a still one once, a moving one per frame.
+mkdir -p "$OUT/scn"
+cp "$ROOT/scenes/meshes/funnel.obj" "$OUT/scn/bowl.obj"
+sed -e 's|"bodies": \[|"colliders": [{"name": "tray", "shape": {"type": "plane", "point": [0, 0.06, 0], "normal": [0, 1, 0]}}, {"name": "paddle", "look": "wood", "shape": {"type": "box", "min": [0.02, 0.02, 0.02], "max": [0.05, 0.05, 0.05]}, "motion": {"keyframes": [{"time": 0}, {"time": 0.02, "translation": [0.01, 0, 0]}]}}, {"name": "bowl", "look": "glass", "shape": {"type": "mesh", "file": "bowl.obj", "scale": 0.2, "translation": [0.15, 0.1, 0.15]}}, {"name": "ghost", "look": "hidden", "shape": {"type": "box", "min": [0.15, 0.0, 0.0], "max": [0.2, 0.05, 0.05]}}],\n  "bodies": [|' \
+    "$ROOT/tests/data/good_small.json" > "$OUT/scn/colliders.json"
+"$BAKESIM" run "$OUT/scn/colliders.json" --out "$OUT/col" --quiet
+check '[ $? -eq 0 ]' "a scene with a plane, a moving box, a mesh and a hidden collider runs"
+"$BAKESIM" mesh "$OUT/col" 2>"$OUT/col-mesh.txt"
+check '[ $? -eq 0 ] && grep -q "5 collider meshes in meshes/colliders/" "$OUT/col-mesh.txt"' "mesh: colliders exported ($(cat "$OUT/col-mesh.txt"))"
+check '[ -s "$OUT/col/meshes/colliders/tray.ply" ] && [ -s "$OUT/col/meshes/colliders/bowl.ply" ] && [ -s "$OUT/col/meshes/colliders/paddle-00000.ply" ] && [ -s "$OUT/col/meshes/colliders/paddle-00002.ply" ] && [ ! -e "$OUT/col/meshes/colliders/ghost.ply" ]' "still colliders once, the moving one per frame, the hidden one not"
+check 'head -c 300 "$OUT/col/meshes/colliders/tray.ply" | grep -q "property uchar red"' "collider PLY carries its look's colour"
+"$BAKESIM" render "$OUT/col" --width 160 --height 90 2>"$OUT/col-render.txt"
+check '[ $? -eq 0 ] && png "$OUT/col/render/mesh-browning-00002.png" && ! grep -q "not drawn" "$OUT/col-render.txt"' "render draws the frame with its colliders"
+# The mesh file gone from beside the scene: that collider is left out, with a note; the picture is still made.
+rm "$OUT/scn/bowl.obj"
+"$BAKESIM" render "$OUT/col" --width 160 --height 90 2>"$OUT/col-gone.txt"
+check '[ $? -eq 0 ] && grep -q "collider bowl not drawn" "$OUT/col-gone.txt"' "a collider whose mesh file is gone is named, the picture still made"
+
 # MPM: a scene with meshing during the run.
 sed -e 's/"type": "sph", "sph": {"spacing": 0.01}/"type": "mpm", "mpm": {"cell_size": 0.02}/' \
     -e 's/"time": {/"output": {"mesh": {"enabled": true}}, "time": {/' "$ROOT/tests/data/good_small.json" > "$OUT/mpm.json"

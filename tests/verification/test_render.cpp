@@ -11,6 +11,7 @@
 #include "helpers.hpp"
 #include "render/plot.hpp"
 #include "render/render.hpp"
+#include "geometry/collider_mesh.hpp"
 
 using namespace bakesim;
 using namespace bakesim::render;
@@ -86,6 +87,88 @@ TEST(Render, ParticlesWithAColourBarAndTheSameImageOnAnyThreadCount) {
     b = render_particles(pv, settings, text, &bar);
   }
   EXPECT_EQ(a.rgb, b.rgb);
+}
+
+namespace {
+
+// Pixels whose colour is the wood look's (r > g > b, clearly apart): no body,
+// ground or background pixel is.
+bool woody(const std::uint8_t* p) { return p[0] > p[1] + 20 && p[1] > p[2] + 15; }
+
+// A grey (uncoloured) ball resting on y = 0, seen from the front and above.
+surface::SurfaceMesh grey_ball() {
+  surface::SurfaceMesh mesh = surface::reconstruct_surface(ball(0.03, 0.003), {});
+  mesh.colours.clear();
+  return mesh;
+}
+
+}  // namespace
+
+// Issue 23: the tray under the loaf is drawn in its material.
+TEST(Render, ATrayIsDrawnUnderTheBodyInItsMaterial) {
+  const surface::SurfaceMesh mesh = grey_ball();
+  RenderSettings settings;
+  settings.width = 240, settings.height = 180;
+  settings.camera = Camera{Vec3(0, 0.12, 0.25), Vec3(0, 0.02, 0), 35};
+  const TextRenderer text;
+  Prop tray;
+  tray.mesh = collider_rest_mesh(BoxCollider{{Vec3(-0.08, -0.008, -0.08), Vec3(0.08, 0, 0.08)}}, Vec3::Zero(), 1);
+  tray.look = ColliderLook::wood;
+  const Image bare = render_mesh(mesh, settings, text);
+  const Image with_tray = render_mesh(mesh, settings, text, nullptr, "", {tray});
+  // Below the ball's centre (the picture's middle column, lower half) the tray
+  // shows as wood; without it nothing there is.
+  int wood = 0, wood_bare = 0, below = 0;
+  for (int y = settings.height / 2; y < settings.height; ++y)
+    for (int x = settings.width / 2 - 20; x < settings.width / 2 + 20; ++x) {
+      wood += woody(with_tray.at(x, y));
+      wood_bare += woody(bare.at(x, y));
+      ++below;
+    }
+  EXPECT_EQ(wood_bare, 0);
+  EXPECT_GT(wood, below / 4) << wood << " of " << below;
+  // Ceramic and metal draw other colours in the same place: no wood there.
+  for (ColliderLook look : {ColliderLook::ceramic, ColliderLook::metal}) {
+    tray.look = look;
+    const Image other = render_mesh(mesh, settings, text, nullptr, "", {tray});
+    int other_wood = 0;
+    for (int y = settings.height / 2; y < settings.height; ++y)
+      for (int x = settings.width / 2 - 20; x < settings.width / 2 + 20; ++x) other_wood += woody(other.at(x, y));
+    EXPECT_EQ(other_wood, 0) << to_string(look);
+  }
+  // Hidden: the same picture as without it.
+  tray.look = ColliderLook::hidden;
+  EXPECT_EQ(render_mesh(mesh, settings, text, nullptr, "", {tray}).rgb, bare.rgb);
+}
+
+// A glass cover over the body still shows the body through it, a little dimmer.
+TEST(Render, ABodyUnderGlassStaysVisible) {
+  surface::SurfaceMesh mesh = grey_ball();
+  mesh.colours.assign(mesh.vertices.size(), {200, 60, 40});  // a red ball
+  RenderSettings settings;
+  settings.width = 160, settings.height = 120;
+  settings.camera = Camera{Vec3(0, 0.1, 0.25), Vec3(0, 0.03, 0), 35};
+  const TextRenderer text;
+  Prop cover;
+  cover.mesh = collider_rest_mesh(CupCollider{Vec3(0, 0.08, 0), Vec3(0, -1, 0), 0.05, 0.08, 0.002}, Vec3::Zero(), 1);
+  cover.look = ColliderLook::glass;
+  const Image bare = render_mesh(mesh, settings, text);
+  const Image covered = render_mesh(mesh, settings, text, nullptr, "", {cover});
+  // Where the bare picture shows the ball, the covered one still shows red.
+  double red_bare = 0, red_covered = 0;
+  int ball_pixels = 0;
+  for (int y = 0; y < settings.height; ++y)
+    for (int x = 0; x < settings.width; ++x) {
+      const std::uint8_t* a = bare.at(x, y);
+      if (int(a[0]) < int(a[2]) + 60) continue;
+      const std::uint8_t* b = covered.at(x, y);
+      red_bare += int(a[0]) - int(a[2]), red_covered += int(b[0]) - int(b[2]), ++ball_pixels;
+    }
+  ASSERT_GT(ball_pixels, 500);
+  EXPECT_GT(red_covered, 0.5 * red_bare) << "mean red excess " << red_covered / ball_pixels << " under glass, "
+                                         << red_bare / ball_pixels << " bare";
+  EXPECT_LT(red_covered, red_bare);  // the glass dims and tints it
+  EXPECT_NE(bare.rgb, covered.rgb);
 }
 
 TEST(Plot, NiceTicksAndALineWhereTheDataAre) {
