@@ -417,6 +417,9 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(16, 8192));
   render_cmd->add_flag("--movie", render_opt.movie, "Also assemble an MP4 of the rendered frames (needs ffmpeg)");
   render_cmd->add_flag("--strip", render_opt.strip, "Also write an image strip of up to six of the rendered frames");
+  render_cmd->add_option("--cut", render_opt.cut,
+                         "Cut view: x, y or z (through the bodies' middle) or AXIS=METRES; the side of larger "
+                         "coordinates is cut away and the cut face coloured like the surface (--colour)");
   render_cmd->add_option("--threads,-j", render_threads, "Worker threads (default: all cores)")
       ->check(CLI::Range(1, 4096));
 

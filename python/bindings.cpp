@@ -544,7 +544,7 @@ PYBIND11_MODULE(_bakesim, m) {
   m.def(
       "_render",
       [](const fs::path& dir, std::vector<int> frames, bool all_frames, const std::string& mode,
-         const std::string& colour, bool movie, bool strip) {
+         const std::string& colour, bool movie, bool strip, const std::string& cut) {
         render::RenderRunOptions o;
         o.frames = std::move(frames);
         o.all_frames = all_frames;
@@ -552,6 +552,7 @@ PYBIND11_MODULE(_bakesim, m) {
         o.colour = colour;
         o.movie = movie;
         o.strip = strip;
+        o.cut = cut;
         const auto r = render::render_run(dir, o);
         std::vector<fs::path> files = r.images;
         if (r.movie) files.push_back(*r.movie);
@@ -559,7 +560,7 @@ PYBIND11_MODULE(_bakesim, m) {
         return std::make_pair(files, r.note);
       },
       py::arg("run_dir"), py::arg("frames"), py::arg("all_frames"), py::arg("mode"), py::arg("colour"),
-      py::arg("movie"), py::arg("strip"), py::call_guard<py::gil_scoped_release>());
+      py::arg("movie"), py::arg("strip"), py::arg("cut"), py::call_guard<py::gil_scoped_release>());
   m.def(
       "plot", [](const fs::path& dir) { return render::plot_run(dir); }, py::arg("run_dir"),
       py::call_guard<py::gil_scoped_release>(), "Plots of stats.csv into RUN_DIR/plots/; returns the files.");

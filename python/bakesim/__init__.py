@@ -235,9 +235,10 @@ def mesh(run_dir, method="levelset", colour="browning", frames=None, voxel_ratio
     return done
 
 
-def render(run_dir, frames=None, all_frames=False, mode="mesh", colour="browning", movie=False, strip=False):
-    """Pictures into RUN_DIR/render/ (as `bakesim render`); returns the files written."""
-    files, note = _bakesim._render(_os.fspath(run_dir), list(frames or []), all_frames, mode, colour, movie, strip)
+def render(run_dir, frames=None, all_frames=False, mode="mesh", colour="browning", movie=False, strip=False, cut=""):
+    """Pictures into RUN_DIR/render/ (as `bakesim render`; cut="z" or "x=0.01" as its --cut); returns the files written."""
+    files, note = _bakesim._render(_os.fspath(run_dir), list(frames or []), all_frames, mode, colour, movie, strip,
+                                   cut)
     return files
 
 

@@ -105,9 +105,8 @@ surface::SurfaceParticles surface_particles(const ParticleSet& ps, const RunGeom
   return s;
 }
 
-surface::SurfaceMesh frame_mesh(const ParticleSet& ps, const RunGeometry& run, const MeshSettings& settings) {
+surface::ColourSamples colour_samples(const ParticleSet& ps, const RunGeometry& run, const MeshSettings& settings) {
   const surface::SurfaceParticles sp = surface_particles(ps, run);
-  surface::SurfaceMesh mesh = surface::reconstruct_surface(sp, settings.surface);
   surface::ColourSamples samples;
   samples.position = sp.position;
   const Real cell = run.spacing * run.spacing * run.spacing;
@@ -118,7 +117,12 @@ surface::SurfaceMesh frame_mesh(const ParticleSet& ps, const RunGeometry& run, c
   for (Real& v : samples.value) v = (v - lo) / (hi - lo);
   if (const auto bubble = attribute_values(ps, "bubble"))
     for (Real b : *bubble) samples.bubble.push_back(b != 0 ? 1 : 0);
-  surface::assign_uv(mesh, samples, 2.0 * run.spacing);
+  return samples;
+}
+
+surface::SurfaceMesh frame_mesh(const ParticleSet& ps, const RunGeometry& run, const MeshSettings& settings) {
+  surface::SurfaceMesh mesh = surface::reconstruct_surface(surface_particles(ps, run), settings.surface);
+  surface::assign_uv(mesh, colour_samples(ps, run, settings), kColourSupport * run.spacing);
   surface::colour_vertices(mesh, colour_palette(settings.colour));
   return mesh;
 }

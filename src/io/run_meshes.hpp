@@ -43,6 +43,11 @@ surface::Palette colour_palette(const std::string& quantity);
 std::vector<Real> particle_values(const ParticleSet& particles, const std::string& quantity);
 
 surface::SurfaceParticles surface_particles(const ParticleSet& particles, const RunGeometry& run);
+// Colours are smoothed over this many particle spacings (Eq 4.5's support).
+inline constexpr Real kColourSupport = 2.0;
+// The particles' colouring samples (thesis Eq 4.5-4.7) of `settings.colour`.
+surface::ColourSamples colour_samples(const ParticleSet& particles, const RunGeometry& run,
+                                      const MeshSettings& settings);
 // Meshes and colours one frame.
 surface::SurfaceMesh frame_mesh(const ParticleSet& particles, const RunGeometry& run, const MeshSettings& settings);
 // Writes NNNNN.ply / NNNNN.obj (and the material and texture) into `meshes_dir`, atomically.

@@ -140,6 +140,34 @@ bool occluded(RTCScene scene, const Vec3f& o, const Vec3f& d, float far) {
   return ray.tfar < 0;
 }
 
+// The first hit along o + t d (t < far) that a cut view keeps (the ground is
+// never cut away); false when there is none.
+bool intersect_kept(RTCScene scene, const Vec3f& o, const Vec3f& d, float far, const CutPlane* cut, unsigned ground,
+                    RTCRayHit& rh) {
+  float from = 0;
+  for (int skipped = 0; skipped < 256; ++skipped) {
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    rh = RTCRayHit{};
+    rh.ray.org_x = o.x(), rh.ray.org_y = o.y(), rh.ray.org_z = o.z();
+    rh.ray.dir_x = d.x(), rh.ray.dir_y = d.y(), rh.ray.dir_z = d.z();
+    rh.ray.tnear = from, rh.ray.tfar = far, rh.ray.mask = 0xffffffffu;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(scene, &ctx, &rh);
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+    if (!cut || rh.hit.geomID == ground || !cut->removes((o + rh.ray.tfar * d).cast<Real>())) return true;
+    from = std::nextafter(rh.ray.tfar, std::numeric_limits<float>::infinity()) * (1 + 1e-6f);
+  }
+  return false;
+}
+
+// Is anything kept between o and o + far d?
+bool blocked(RTCScene scene, const Vec3f& o, const Vec3f& d, float far, const CutPlane* cut, unsigned ground) {
+  if (!cut) return occluded(scene, o, d, far);
+  RTCRayHit rh;
+  return intersect_kept(scene, o, d, far, cut, ground, rh);
+}
+
 void draw_colour_bar(Image& img, const ColourBar& bar, const TextRenderer& text) {
   const int x0 = img.width - 110, x1 = x0 + 22, y0 = img.height / 5, y1 = img.height * 4 / 5;
   for (int y = y0; y <= y1; ++y) {
@@ -240,6 +268,19 @@ Image trace(RayScene& rs, const Aabb& bodies, const RenderSettings& s, const Sur
     return Vec3f(0.93f, 0.93f, 0.92f) * (1 - t) + Vec3f(0.62f, 0.70f, 0.80f) * t;
   };
   constexpr int kMaxGlassLayers = 8;  // a glass funnel over a glass cup: eight faces
+  const CutPlane* cut = s.cut ? &*s.cut : nullptr;
+  // A back face seen through the cut: the ray crossed the plane inside the
+  // solid, so what shows is the cut face there; p and n move onto it.
+  const auto cut_face = [&](const Vec3f& origin, const Vec3f& dir, Vec3f& p, Vec3f& n) {
+    const Vec3f plane = cut->normal.cast<float>();
+    const float along = plane.dot(dir);
+    if (std::abs(along) < 1e-8f) return false;
+    const float t = (float(cut->offset) - plane.dot(origin)) / along;
+    if (!(t >= 0) || !(t <= (p - origin).norm())) return false;
+    p = origin + t * dir;
+    n = along < 0 ? plane : Vec3f(-plane);
+    return true;
+  };
   Image img(s.width, s.height);
   const int n_side = std::max(1, int(std::lround(std::sqrt(double(s.samples)))));
   parallel_for(
@@ -257,19 +298,12 @@ Image trace(RayScene& rs, const Aabb& bodies, const RenderSettings& s, const Sur
             const Vec3f dir = (forward + px * right + py * up).normalized();
             Vec3f origin = eye, throughput = Vec3f::Ones();
             for (int layer = 0;; ++layer) {
-              RTCIntersectContext ctx;
-              rtcInitIntersectContext(&ctx);
-              RTCRayHit rh{};
-              rh.ray.org_x = origin.x(), rh.ray.org_y = origin.y(), rh.ray.org_z = origin.z();
-              rh.ray.dir_x = dir.x(), rh.ray.dir_y = dir.y(), rh.ray.dir_z = dir.z();
-              rh.ray.tnear = 0, rh.ray.tfar = std::numeric_limits<float>::infinity(), rh.ray.mask = 0xffffffffu;
-              rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-              rtcIntersect1(rs.scene, &ctx, &rh);
-              if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
+              RTCRayHit rh;
+              if (!intersect_kept(rs.scene, origin, dir, std::numeric_limits<float>::infinity(), cut, rs.ground, rh)) {
                 sum += throughput.cwiseProduct(background(dir));
                 break;
               }
-              const Vec3f p = origin + rh.ray.tfar * dir;
+              Vec3f p = origin + rh.ray.tfar * dir;
               const bool ground = rh.hit.geomID == rs.ground;
               const int prop_index = rh.hit.geomID < prop_of_geometry.size() ? prop_of_geometry[rh.hit.geomID] : -1;
               const PlacedProp* prop = prop_index >= 0 ? &placed[std::size_t(prop_index)] : nullptr;
@@ -280,10 +314,14 @@ Image trace(RayScene& rs, const Aabb& bodies, const RenderSettings& s, const Sur
               } else if (prop) {
                 albedo = look_albedo(prop->prop->look);
                 if (prop->prop->look == ColliderLook::wood) albedo *= wood_grain(prop->box, p);
-                n = Vec3f(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z).normalized();
+                n = prop->prop->mesh.normal(rh.hit.primID).cast<float>();  // outward
+                if (cut && prop->prop->look != ColliderLook::glass && n.dot(dir) > 0) cut_face(origin, dir, p, n);
                 if (n.dot(dir) > 0) n = -n;
               } else {
                 surface_at(rh.hit, albedo, n);
+                // Seeing the inside of the body from the cut side: its cut face, coloured by the quantity.
+                if (cut && n.dot(dir) > 0 && cut_face(origin, dir, p, n) && s.cut_colour)
+                  albedo = srgb_to_linear(s.cut_colour(p.cast<Real>()));
                 if (n.dot(dir) > 0) n = -n;
               }
               const Vec3f h = (key - dir).normalized();
@@ -310,7 +348,7 @@ Image trace(RayScene& rs, const Aabb& bodies, const RenderSettings& s, const Sur
                 const float a = 6.2831853f * rng.uniform(),
                             r = 0.06f * std::sqrt(rng.uniform());  // soft: a light of ~7°
                 const Vec3f l = (key + r * (std::cos(a) * t + std::sin(a) * b)).normalized();
-                if (!occluded(shadows, o, l, std::numeric_limits<float>::infinity())) visible += 1;
+                if (!blocked(shadows, o, l, std::numeric_limits<float>::infinity(), cut, rs.ground)) visible += 1;
               }
               visible /= float(std::max(1, s.shadow_samples));
               Vec3f nt, nb;
@@ -319,7 +357,7 @@ Image trace(RayScene& rs, const Aabb& bodies, const RenderSettings& s, const Sur
               for (int j = 0; j < s.occlusion_samples; ++j) {
                 const float a = 6.2831853f * rng.uniform(), r2 = rng.uniform(), r = std::sqrt(r2);
                 const Vec3f d = (r * std::cos(a) * nt + r * std::sin(a) * nb + std::sqrt(1 - r2) * n).normalized();
-                if (!occluded(shadows, o, d, ao_reach)) open += 1;
+                if (!blocked(shadows, o, d, ao_reach, cut, rs.ground)) open += 1;
               }
               open = s.occlusion_samples > 0 ? open / float(s.occlusion_samples) : 1.0f;
               Vec3f light = key_colour * (std::max(0.0f, n.dot(key)) * visible) +
@@ -353,6 +391,28 @@ Image trace(RayScene& rs, const Aabb& bodies, const RenderSettings& s, const Sur
 }
 
 }  // namespace
+
+CutPlane parse_cut_plane(const std::string& text, const Aabb& bodies) {
+  const auto eq = text.find('=');
+  const std::string axis = text.substr(0, eq);
+  const int k = axis == "x" ? 0 : axis == "y" ? 1 : axis == "z" ? 2 : -1;
+  if (k < 0) throw InputError("render --cut", "'" + text + "': give x, y or z, or AXIS=VALUE in metres (e.g. z=0.01)");
+  CutPlane cut;
+  cut.normal = Vec3::Unit(k);
+  cut.offset = 0.5 * (bodies.min[k] + bodies.max[k]);
+  if (eq != std::string::npos) {
+    const std::string value = text.substr(eq + 1);
+    std::size_t used = 0;
+    try {
+      cut.offset = std::stod(value, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != value.size() || !std::isfinite(cut.offset))
+      throw InputError("render --cut", "'" + text + "': the value after = must be a number of metres");
+  }
+  return cut;
+}
 
 Aabb framing_box(const Aabb& bodies, const std::vector<Prop>& props) {
   Aabb frame = bodies, near = bodies;

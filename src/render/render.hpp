@@ -7,6 +7,7 @@
 // per-pixel random sequence, so a picture does not depend on the thread count.
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -30,11 +31,25 @@ struct Camera {
 // enough that the whole box fits the picture.
 Camera frame_camera(const Aabb& box, Real aspect, Real field_of_view = 35);
 
+// A cut view: everything with normal·x > offset is left out (bodies and
+// colliders, not the ground), and where the plane passes through a closed body
+// or collider its cut face is drawn, the body's in `cut_colour` at each point.
+struct CutPlane {
+  Vec3 normal = Vec3::UnitZ();  // unit
+  Real offset = 0;
+  bool removes(const Vec3& x) const { return normal.dot(x) > offset; }
+};
+// "x", "y" or "z" (through the middle of `bodies`) or "x=VALUE" (m): the side
+// of larger coordinates is cut away. InputError("render --cut", ...) otherwise.
+CutPlane parse_cut_plane(const std::string& text, const Aabb& bodies);
+
 struct RenderSettings {
   int width = 1280, height = 720;
   std::optional<Camera> camera;
-  int samples = 4;         // per pixel (a jittered 2×2 pattern for 4)
-  int shadow_samples = 2;  // key-light rays per sample
+  std::optional<CutPlane> cut;
+  std::function<std::array<std::uint8_t, 3>(const Vec3&)> cut_colour;  // sRGB of the body's cut face at a point
+  int samples = 4;                                                     // per pixel (a jittered 2×2 pattern for 4)
+  int shadow_samples = 2;                                              // key-light rays per sample
   int occlusion_samples = 2;
 };
 

@@ -98,6 +98,7 @@ RenderRunResult render_run(const fs::path& run_dir, const RenderRunOptions& o) {
     }
     settings.camera = frame_camera(box, Real(settings.width) / Real(settings.height));
   }
+  if (!o.cut.empty()) settings.cut = parse_cut_plane(o.cut, bodies);
   const TextRenderer text;
   MeshSettings mesh_opts;
   mesh_opts.colour = o.colour;
@@ -109,9 +110,13 @@ RenderRunResult render_run(const fs::path& run_dir, const RenderRunOptions& o) {
   const double fps = run.scene.contains("time") ? run.scene["time"].value("fps", 30.0) : 30.0;
   const double bake_scale =
       run.scene.contains("environment") ? run.scene["environment"].value("bake_time_scale", 1.0) : 1.0;
-  const std::string stem = o.mode + "-" + o.colour;
-  RenderRunResult result;
-  for (int f : frames) {
+  const std::string stem = o.mode + "-" + o.colour +
+                           (settings.cut ? "-cut-" + std::string(1, "xyz"[settings.cut->normal.y() != 0   ? 1
+                                                                          : settings.cut->normal.z() != 0 ? 2
+                                                                                                          : 0])
+                                         : "");
+  // One frame's picture: with its colour bar and full caption, or (a strip's tile) with the bake time only.
+  const auto draw = [&](int f, bool tile) {
     const ParticleSet ps = read_particle_frame(run.frames.at(f));
     const auto range = colour_range(ps, o.colour, o.range);
     ColourBar bar;
@@ -119,53 +124,47 @@ RenderRunResult render_run(const fs::path& run_dir, const RenderRunOptions& o) {
     bar.low = range.first, bar.high = range.second;
     bar.palette = colour_palette(o.colour);
     const double bake = f / fps * bake_scale;
-    const std::string caption =
-        fmt::format("{}   frame {}   bake {}", scene_name, f,
-                    bake >= 120 ? fmt::format("{:.1f} min", bake / 60) : fmt::format("{:.2f} s", bake));
-    Image img;
+    const std::string when = bake >= 120 ? fmt::format("{:.1f} min", bake / 60) : fmt::format("{:.2f} s", bake);
+    const std::string caption = tile ? when : fmt::format("{}   frame {}   bake {}", scene_name, f, when);
     if (o.mode == "mesh") {
       const surface::SurfaceMesh mesh = frame_mesh(ps, geometry, mesh_opts);
       // Dough vertices show palette(0.15 + 0.8 value) (Eq 4.7); the bar shows the same.
       bar.palette_offset = 0.15, bar.palette_scale = 0.8;
-      img = render_mesh(mesh, settings, text, &bar, caption, props_at(f));
-    } else {
-      ParticleView pv;
-      pv.position = ps.vector("position");
-      const std::vector<Real> values = particle_values(ps, o.colour);
-      for (Real v : values)
-        pv.colour.push_back(surface::palette_colour(bar.palette, (v - range.first) / (range.second - range.first)));
-      pv.radius = 0.5 * geometry.spacing;
-      img = render_particles(pv, settings, text, &bar, caption, props_at(f));
+      RenderSettings frame_settings = settings;
+      std::optional<surface::ColourField> field;
+      if (settings.cut) {
+        // The cut face: the same colouring as the surface, at every point of the plane inside the body.
+        field.emplace(colour_samples(ps, geometry, mesh_opts), kColourSupport * geometry.spacing);
+        frame_settings.cut_colour = [&, palette = bar.palette](const Vec3& x) {
+          return surface::palette_colour(palette, field->uv_at(x));
+        };
+      }
+      return render_mesh(mesh, frame_settings, text, tile ? nullptr : &bar, caption, props_at(f));
     }
+    ParticleView pv;
+    const std::vector<Real> values = particle_values(ps, o.colour);
+    for (std::size_t i = 0; i < ps.size(); ++i) {
+      const Vec3& x = ps.vector("position")[i];
+      if (settings.cut && settings.cut->removes(x)) continue;  // the cut view shows the particles behind the plane
+      pv.position.push_back(x);
+      pv.colour.push_back(
+          surface::palette_colour(bar.palette, (values[i] - range.first) / (range.second - range.first)));
+    }
+    pv.radius = 0.5 * geometry.spacing;
+    return render_particles(pv, settings, text, tile ? nullptr : &bar, caption, props_at(f));
+  };
+  RenderRunResult result;
+  for (int f : frames) {
     const fs::path file = out_dir / (stem + "-" + frame_stem(f) + ".png");
-    write_file_atomic(file, encode_png(img));
+    write_file_atomic(file, encode_png(draw(f, false)));
     result.images.push_back(file);
   }
   if (o.strip && !result.images.empty()) {
-    // Up to six frames, evenly spread, in a row of full-size pictures.
+    // Up to six frames, evenly spread, in a row of full-size pictures (drawn again as tiles).
     const std::size_t n = std::min<std::size_t>(6, result.images.size());
     std::vector<Image> tiles;
-    for (std::size_t k = 0; k < n; ++k) {
-      const std::size_t i = n == 1 ? 0 : k * (result.images.size() - 1) / (n - 1);
-      const int f = frames[i];
-      // Rendered again at the full picture size, without the colour bar, captioned with the bake time only.
-      const RenderSettings& tile = settings;
-      const ParticleSet ps = read_particle_frame(run.frames.at(f));
-      const double bake = f / fps * bake_scale;
-      const std::string caption = bake >= 120 ? fmt::format("{:.1f} min", bake / 60) : fmt::format("{:.2f} s", bake);
-      if (o.mode == "mesh") {
-        tiles.push_back(render_mesh(frame_mesh(ps, geometry, mesh_opts), tile, text, nullptr, caption, props_at(f)));
-      } else {
-        ParticleView pv;
-        pv.position = ps.vector("position");
-        const auto range = colour_range(ps, o.colour, o.range);
-        for (Real v : particle_values(ps, o.colour))
-          pv.colour.push_back(
-              surface::palette_colour(colour_palette(o.colour), (v - range.first) / (range.second - range.first)));
-        pv.radius = 0.5 * geometry.spacing;
-        tiles.push_back(render_particles(pv, tile, text, nullptr, caption, props_at(f)));
-      }
-    }
+    for (std::size_t k = 0; k < n; ++k)
+      tiles.push_back(draw(frames[n == 1 ? 0 : k * (frames.size() - 1) / (n - 1)], true));
     Image strip(int(n) * tiles[0].width, tiles[0].height);
     for (std::size_t k = 0; k < n; ++k) strip.paste(tiles[k], int(k) * tiles[0].width, 0);
     result.strip = out_dir / (stem + "-strip.png");

@@ -4,6 +4,8 @@
 //   particles-COLOUR-NNNNN.png  the particles as spheres with a colour bar
 //   MODE-COLOUR.mp4             with --movie, when ffmpeg is installed
 //   MODE-COLOUR-strip.png       with --strip: up to six frames side by side
+//   MODE-COLOUR-cut-AXIS-NNNNN.png  with --cut: the part beyond a plane cut away,
+//                               the mesh's cut face coloured by the same quantity
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -24,6 +26,7 @@ struct RenderRunOptions {
   surface::SurfaceMethod method = surface::SurfaceMethod::levelset;
   std::optional<int> width, height;  // override the scene's render size
   bool movie = false, strip = false;
+  std::string cut;  // "" none; else a cut view (render.hpp, parse_cut_plane): "z", "x=0.01", ...
 };
 
 struct RenderRunResult {

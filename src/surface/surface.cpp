@@ -199,39 +199,52 @@ Real spline(Real r, Real support) {
 
 }  // namespace
 
-void assign_uv(SurfaceMesh& mesh, const ColourSamples& s, Real support) {
-  mesh.uv.assign(mesh.vertices.size(), 0.05f);
-  if (s.position.empty() || mesh.vertices.empty()) return;
-  PointCloud cloud{&s.position};
-  KdTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
-  tree.buildIndex();
+struct ColourField::Index {
+  PointCloud cloud;
+  KdTree tree;
+  explicit Index(const std::vector<Vec3>* points)
+      : cloud{points}, tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16)) {
+    tree.buildIndex();
+  }
+};
+
+ColourField::ColourField(ColourSamples samples, Real support)
+    : samples_(std::move(samples)),
+      support_(support),
+      index_(samples_.position.empty() ? nullptr : std::make_unique<Index>(&samples_.position)) {}
+
+ColourField::~ColourField() = default;
+
+Real ColourField::uv_at(const Vec3& x) const {
+  if (!index_) return 0.05;
+  const ColourSamples& s = samples_;
   auto g = [&](std::size_t j) {
     const Real offset = (!s.bubble.empty() && s.bubble[j]) ? 0.0 : 0.1;  // Eq 4.7's O
     return offset + 0.8 * std::clamp(s.value[j], 0.0, 1.0) + 0.05;
   };
-  // One result list per block of vertices: the search reuses its storage.
+  thread_local std::vector<std::pair<std::size_t, Real>> found;  // the search reuses its storage
+  index_->tree.radiusSearch(x.data(), support_ * support_, found, nanoflann::SearchParams(32, 0, false));
+  Real num = 0, den = 0;
+  for (const auto& f : found) {
+    const Real w = s.volume[f.first] * spline(std::sqrt(f.second), support_);  // Eq 4.5
+    num += w * g(f.first);
+    den += w;
+  }
+  if (den > 0) return num / den;
+  std::size_t nearest = 0;
+  Real d2 = 0;
+  index_->tree.knnSearch(x.data(), 1, &nearest, &d2);
+  return g(nearest);
+}
+
+void assign_uv(SurfaceMesh& mesh, const ColourSamples& s, Real support) {
+  mesh.uv.assign(mesh.vertices.size(), 0.05f);
+  if (s.position.empty() || mesh.vertices.empty()) return;
+  const ColourField field(s, support);
   parallel_blocks(
       mesh.vertices.size(),
       [&](std::size_t vb, std::size_t ve) {
-        std::vector<std::pair<std::size_t, Real>> found;
-        for (std::size_t v = vb; v < ve; ++v) {
-          const Vec3 x = mesh.vertices[v].cast<Real>();
-          tree.radiusSearch(x.data(), support * support, found, nanoflann::SearchParams(32, 0, false));
-          Real num = 0, den = 0;
-          for (const auto& f : found) {
-            const Real w = s.volume[f.first] * spline(std::sqrt(f.second), support);  // Eq 4.5
-            num += w * g(f.first);
-            den += w;
-          }
-          if (den > 0) {
-            mesh.uv[v] = float(num / den);
-          } else {
-            std::size_t nearest = 0;
-            Real d2 = 0;
-            tree.knnSearch(x.data(), 1, &nearest, &d2);
-            mesh.uv[v] = float(g(nearest));
-          }
-        }
+        for (std::size_t v = vb; v < ve; ++v) mesh.uv[v] = float(field.uv_at(mesh.vertices[v].cast<Real>()));
       },
       1024);
 }

@@ -16,6 +16,7 @@
 // Here s is the initial particle spacing and c_i = (ρ0/ρ_i)^{1/3} the linear
 // expansion of particle i (SPH: rest over current density; MPM: J^{1/3}).
 #include <array>
+#include <memory>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -83,6 +84,23 @@ struct ColourSamples {
   std::vector<std::uint8_t> bubble;  // 1 for bubble particles (may be empty)
 };
 void assign_uv(SurfaceMesh& mesh, const ColourSamples& samples, Real support);
+
+// The same U at any point (the cut face of `bakesim render --cut`): built once
+// over the samples, queried from many threads at once.
+class ColourField {
+ public:
+  ColourField(ColourSamples samples, Real support);
+  ~ColourField();
+  ColourField(const ColourField&) = delete;
+  ColourField& operator=(const ColourField&) = delete;
+  Real uv_at(const Vec3& x) const;
+
+ private:
+  struct Index;
+  ColourSamples samples_;
+  Real support_;
+  std::unique_ptr<Index> index_;
+};
 
 // Colour maps from U ∈ [0, 1] to sRGB.
 enum class Palette { baking, heat };

@@ -244,6 +244,8 @@ class RunDirectories(Base):
         self.assertTrue(os.path.exists(os.path.join(out, "meshes", "00000.ply")))
         pictures = bakesim.render(out, frames=[0])
         self.assertTrue(pictures and all(os.path.exists(p) for p in pictures))
+        cut = bakesim.render(out, frames=[0], cut="z")
+        self.assertEqual([os.path.basename(p) for p in cut], ["mesh-browning-cut-z-00000.png"])
         plots = bakesim.plot(out)
         self.assertTrue(plots and all(os.path.exists(p) for p in plots))
         page = bakesim.report(out)

@@ -36,6 +36,12 @@ check '[ -s "$OUT/col/meshes/colliders/tray.ply" ] && [ -s "$OUT/col/meshes/coll
 check 'head -c 300 "$OUT/col/meshes/colliders/tray.ply" | grep -q "property uchar red"' "collider PLY carries its look's colour"
 "$BAKESIM" render "$OUT/col" --width 160 --height 90 2>"$OUT/col-render.txt"
 check '[ $? -eq 0 ] && png "$OUT/col/render/mesh-browning-00002.png" && ! grep -q "not drawn" "$OUT/col-render.txt"' "render draws the frame with its colliders"
+"$BAKESIM" render "$OUT/col" --width 160 --height 90 --cut z --colour temperature 2>/dev/null
+check '[ $? -eq 0 ] && png "$OUT/col/render/mesh-temperature-cut-z-00002.png"' "render --cut z: a cut view"
+"$BAKESIM" render "$OUT/col" --mode particles --cut x=0.1 --width 160 --height 90 2>/dev/null
+check '[ $? -eq 0 ] && png "$OUT/col/render/particles-browning-cut-x-00002.png"' "render --mode particles --cut x=0.1"
+"$BAKESIM" render "$OUT/col" --cut q=1 2>"$OUT/cut.txt"
+check '[ $? -eq 2 ] && grep -q "render --cut" "$OUT/cut.txt"' "a bad --cut is refused naming the option (exit 2)"
 # The mesh file gone from beside the scene: that collider is left out, with a note; the picture is still made.
 rm "$OUT/scn/bowl.obj"
 "$BAKESIM" render "$OUT/col" --width 160 --height 90 2>"$OUT/col-gone.txt"

@@ -171,6 +171,47 @@ TEST(Render, ABodyUnderGlassStaysVisible) {
   EXPECT_NE(bare.rgb, covered.rgb);
 }
 
+// Issue 23: the cut view of a half-hot sphere shows the colour ramp on its cut face.
+TEST(Render, TheCutFaceOfAHalfHotSphereShowsTheColourRamp) {
+  const surface::SurfaceMesh mesh = grey_ball();  // radius 3 cm, centre (0, 0.03, 0), grey outside
+  RenderSettings settings;
+  settings.width = 200, settings.height = 200;
+  // Looking along −z at the plane z = 0 through the centre; the near half is cut away.
+  settings.camera = Camera{Vec3(0, 0.03, 0.3), Vec3(0, 0.03, 0), 20};
+  Aabb box{Vec3(-0.03, 0, -0.03), Vec3(0.03, 0.06, 0.03)};
+  settings.cut = parse_cut_plane("z", box);
+  EXPECT_NEAR(settings.cut->offset, 0.0, 1e-15);
+  // Cold (the heat palette's blue) where x < 0, hot (red) where x > 0.
+  settings.cut_colour = [](const Vec3& x) { return surface::palette_colour(surface::Palette::heat, x.x() > 0 ? 1 : 0); };
+  const TextRenderer text;
+  const Image img = render_mesh(mesh, settings, text);
+  int hot_right = 0, cold_left = 0, wrong = 0;
+  for (int y = 0; y < settings.height; ++y)
+    for (int x = 0; x < settings.width; ++x) {
+      const std::uint8_t* p = img.at(x, y);
+      const bool red = p[0] > p[2] + 60, blue = p[2] > p[0] + 60;
+      if (x >= settings.width / 2) hot_right += red, wrong += blue;
+      else cold_left += blue, wrong += red;
+    }
+  // The disc of radius 3 cm seen from 0.3 m with a 20° field: π (r_px)² pixels.
+  const double r_px = 0.03 / (0.3 * std::tan(10 * kPi / 180)) * settings.height / 2;
+  const double disc = kPi * r_px * r_px;
+  EXPECT_NEAR(hot_right, disc / 2, 0.15 * disc / 2) << "disc " << disc;
+  EXPECT_NEAR(cold_left, disc / 2, 0.15 * disc / 2);
+  EXPECT_LT(wrong, disc / 100);
+  // Without the cut the ball shows its grey outside: no ramp colours at all.
+  settings.cut.reset();
+  const Image whole = render_mesh(mesh, settings, text);
+  int coloured = 0;
+  for (int y = 0; y < settings.height; ++y)
+    for (int x = 0; x < settings.width; ++x)
+      coloured += std::abs(int(whole.at(x, y)[0]) - int(whole.at(x, y)[2])) > 60;
+  EXPECT_EQ(coloured, 0);
+  EXPECT_THROW(parse_cut_plane("w=1", box), InputError);
+  EXPECT_THROW(parse_cut_plane("x=abc", box), InputError);
+  EXPECT_NEAR(parse_cut_plane("y=0.01", box).offset, 0.01, 1e-15);
+}
+
 TEST(Plot, NiceTicksAndALineWhereTheDataAre) {
   const auto t = nice_ticks(0.0, 27.3);
   ASSERT_GE(t.size(), 4u);
