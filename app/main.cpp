@@ -244,6 +244,7 @@ struct MeshArgs {
   std::string range;
   std::vector<int> frames;
   double voxel_ratio = 0;
+  bool vdb = false;
   int threads = 0;
 };
 
@@ -268,6 +269,7 @@ int command_mesh(const MeshArgs& a) {
   settings.surface.voxel_ratio = a.voxel_ratio;
   settings.colour = a.colour;
   settings.range = parse_range(a.range, "mesh --range");
+  settings.vdb = a.vdb;
   Stopwatch clock;
   const MeshRunResult r = mesh_run(a.run_dir, settings, a.frames);
   for (const auto& w : r.warnings) fmt::print(stderr, "bakesim: warning: {}\n", w);
@@ -394,6 +396,9 @@ int main(int argc, char** argv) {
   mesh->add_option("--voxel", mesh_args.voxel_ratio,
                    "Voxel size as a fraction of the particle spacing (default: levelset 0.75, wyvill 0.5)")
       ->check(CLI::Range(0.1, 2.0));
+  mesh->add_flag("--vdb", mesh_args.vdb,
+                 "Also write NNNNN.vdb per frame: the level set \"surface\" and float grids temperature, browning, "
+                 "moisture (OpenVDB; for Houdini, Blender, vdb_print)");
   mesh->add_option("--threads,-j", mesh_args.threads, "Worker threads (default: all cores)")
       ->check(CLI::Range(1, 4096));
 

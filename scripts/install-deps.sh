@@ -19,6 +19,7 @@ PACKAGES=(
   libstb-dev             # PNG writing, TrueType text for plots and colour bars
   fonts-dejavu-core      # the font plots and colour bars are labelled with
   ffmpeg                 # bakesim render --movie
+  libopenvdb-tools       # vdb_print: the test that .vdb frames open in OpenVDB's own tools (tests only)
   chromium               # headless browser: the test of bakesim report loads the page in it (tests only)
   pybind11-dev python3-dev python3-numpy  # the Python module (python/)
   python3-scipy python3-distributed       # its examples (calibration) and sweeps on Dask

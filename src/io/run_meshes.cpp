@@ -40,7 +40,11 @@ MeshSettings mesh_settings(const json& m) {
   s.surface.voxel_ratio = m.at("voxel_ratio").get<double>();
   s.colour = m.at("colour").get<std::string>();
   s.ply = s.obj = false;
-  for (const auto& f : m.at("formats")) (f.get<std::string>() == "ply" ? s.ply : s.obj) = true;
+  s.vdb = false;
+  for (const auto& f : m.at("formats")) {
+    const std::string name = f.get<std::string>();
+    (name == "ply" ? s.ply : name == "obj" ? s.obj : s.vdb) = true;
+  }
   return s;
 }
 
@@ -139,6 +143,24 @@ void write_frame_mesh(const fs::path& dir, int frame, const surface::SurfaceMesh
     write_file_atomic(dir / (material + ".mtl"), encode_mtl(material, texture));
     write_file_atomic(dir / (stem + ".obj"), encode_mesh_obj(mesh, material + ".mtl", material));
   }
+}
+
+void write_frame_vdb(const fs::path& dir, int frame, const ParticleSet& ps, const RunGeometry& run,
+                     const MeshSettings& settings) {
+  ensure_directory(dir);
+  std::vector<surface::VolumeQuantity> quantities;
+  const auto add = [&](const std::string& name, const std::string& unit) {
+    for (const auto& q : quantities)
+      if (q.name == name) return;
+    if (auto values = attribute_values(ps, name)) quantities.push_back({name, unit, std::move(*values)});
+  };
+  add("temperature", "degC");
+  add("browning", "");
+  add("moisture", "kg/kg");
+  add(settings.colour, "");
+  write_file_atomic(
+      dir / (frame_stem(frame) + ".vdb"),
+      surface::encode_vdb(surface_particles(ps, run), settings.surface, quantities, kColourSupport * run.spacing));
 }
 
 RunDirectory open_run(const fs::path& dir) {
@@ -247,9 +269,11 @@ MeshRunResult mesh_run(const fs::path& dir, const MeshSettings& settings, std::v
   MeshRunResult result;
   for (int f : frames) {
     if (!run.frames.count(f)) throw InputError("mesh --frame", fmt::format("{} has no frame {}", dir.string(), f));
-    const surface::SurfaceMesh mesh = frame_mesh(read_particle_frame(run.frames.at(f)), geometry, settings);
+    const ParticleSet ps = read_particle_frame(run.frames.at(f));
+    const surface::SurfaceMesh mesh = frame_mesh(ps, geometry, settings);
     const surface::MeshQuality q = surface::check_mesh(mesh);
     write_frame_mesh(run.dir / "meshes", f, mesh, settings);
+    if (settings.vdb) write_frame_vdb(run.dir / "meshes", f, ps, geometry, settings);
     result.frames.push_back(f);
     result.triangles += mesh.triangles.size();
     if (!q.closed_and_oriented())

@@ -31,6 +31,7 @@ struct MeshSettings {
   std::string colour = "browning";             // particle quantity the surface is coloured by
   std::optional<std::pair<Real, Real>> range;  // value range mapped to [0, 1]; default per quantity
   bool ply = true, obj = true;
+  bool vdb = false;  // NNNNN.vdb beside them (write_frame_vdb)
 };
 MeshSettings mesh_settings(const nlohmann::json& output_mesh);  // from the scene's output.mesh
 
@@ -53,6 +54,13 @@ surface::SurfaceMesh frame_mesh(const ParticleSet& particles, const RunGeometry&
 // Writes NNNNN.ply / NNNNN.obj (and the material and texture) into `meshes_dir`, atomically.
 void write_frame_mesh(const std::filesystem::path& meshes_dir, int frame, const surface::SurfaceMesh& mesh,
                       const MeshSettings& settings);
+
+// NNNNN.vdb into `meshes_dir`, atomically (surface::encode_vdb): the level set
+// "surface" and the float grids "temperature" (°C), "browning", "moisture"
+// (kg water per kg dry matter) where the frame has them, and the colouring
+// quantity if it is another.
+void write_frame_vdb(const std::filesystem::path& meshes_dir, int frame, const ParticleSet& particles,
+                     const RunGeometry& run, const MeshSettings& settings);
 
 // A finished (or running) run directory.
 struct RunDirectory {

@@ -254,6 +254,7 @@ void RunOutput::on_frame(const FrameInfo& info, const Solver& solver) {
       }
     }
     if (mesh_) write_frame_mesh(dir_ / "meshes", info.frame, frame_mesh(ps, geometry_, *mesh_), *mesh_);
+    if (mesh_ && mesh_->vdb) write_frame_vdb(dir_ / "meshes", info.frame, ps, geometry_, *mesh_);
   }
   const std::vector<double>& values = recorder_.record(info, solver);
   const std::vector<std::string>& columns = recorder_.columns();

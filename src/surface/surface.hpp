@@ -58,6 +58,23 @@ struct SurfaceOptions {
 // there are no particles.
 SurfaceMesh reconstruct_surface(const SurfaceParticles& particles, const SurfaceOptions& options);
 
+// One frame as OpenVDB volumes (`bakesim mesh --vdb`, output.mesh.formats
+// "vdb"), the bytes of a .vdb file written by OpenVDB's own I/O:
+//   "surface"   the level set the levelset method meshes (class level set,
+//               world units, negative inside), whatever options.method says;
+//   one float grid per quantity, named as given (e.g. "temperature" in °C),
+//   the Shepard-normalised cubic-spline average of the particles' values
+//   (support `support`, weights m/ρ) at every voxel within the support of a
+//   particle: the body's inside and a band around it are active.
+// All grids share the level set's transform (voxel = voxel_ratio × spacing).
+struct VolumeQuantity {
+  std::string name;
+  std::string unit;
+  std::vector<Real> value;  // one per particle
+};
+std::string encode_vdb(const SurfaceParticles& particles, const SurfaceOptions& options,
+                       const std::vector<VolumeQuantity>& quantities, Real support);
+
 // Area-weighted unit vertex normals from the triangles.
 void compute_normals(SurfaceMesh& mesh);
 

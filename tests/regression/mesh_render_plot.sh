@@ -34,6 +34,14 @@ check '[ $? -eq 0 ]' "a scene with a plane, a moving box, a mesh and a hidden co
 check '[ $? -eq 0 ] && grep -q "5 collider meshes in meshes/colliders/" "$OUT/col-mesh.txt"' "mesh: colliders exported ($(cat "$OUT/col-mesh.txt"))"
 check '[ -s "$OUT/col/meshes/colliders/tray.ply" ] && [ -s "$OUT/col/meshes/colliders/bowl.ply" ] && [ -s "$OUT/col/meshes/colliders/paddle-00000.ply" ] && [ -s "$OUT/col/meshes/colliders/paddle-00002.ply" ] && [ ! -e "$OUT/col/meshes/colliders/ghost.ply" ]' "still colliders once, the moving one per frame, the hidden one not"
 check 'head -c 300 "$OUT/col/meshes/colliders/tray.ply" | grep -q "property uchar red"' "collider PLY carries its look's colour"
+"$BAKESIM" mesh "$OUT/col" --vdb --frame 2 2>/dev/null
+check '[ $? -eq 0 ] && [ -s "$OUT/col/meshes/00002.vdb" ]' "mesh --vdb writes NNNNN.vdb"
+if command -v vdb_print >/dev/null; then
+  vdb_print "$OUT/col/meshes/00002.vdb" >"$OUT/vdb.txt" 2>&1
+  check '[ $? -eq 0 ] && grep -q "^surface " "$OUT/vdb.txt" && grep -q "^temperature " "$OUT/vdb.txt" && grep -q "^browning " "$OUT/vdb.txt"' "OpenVDB's vdb_print reads it: surface, temperature, browning"
+else
+  echo "note: vdb_print (Debian libopenvdb-tools) not installed: the .vdb was not opened with OpenVDB's tools"
+fi
 "$BAKESIM" render "$OUT/col" --width 160 --height 90 2>"$OUT/col-render.txt"
 check '[ $? -eq 0 ] && png "$OUT/col/render/mesh-browning-00002.png" && ! grep -q "not drawn" "$OUT/col-render.txt"' "render draws the frame with its colliders"
 "$BAKESIM" render "$OUT/col" --width 160 --height 90 --cut z --colour temperature 2>/dev/null
