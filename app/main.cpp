@@ -281,6 +281,28 @@ int command_mesh(const MeshArgs& a) {
   return kExitOk;
 }
 
+// X,Y,Z in metres.
+Vec3 parse_point(const std::string& s, const std::string& option) {
+  Vec3 p;
+  std::stringstream ss(s);
+  std::string item;
+  int k = 0;
+  while (std::getline(ss, item, ',')) {
+    std::size_t used = 0;
+    double v = 0;
+    try {
+      v = std::stod(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (k >= 3 || used == 0 || used != item.size() || !std::isfinite(v))
+      throw InputError(option, "expects X,Y,Z in metres, got '" + s + "'");
+    p[k++] = v;
+  }
+  if (k != 3) throw InputError(option, "expects X,Y,Z in metres, got '" + s + "'");
+  return p;
+}
+
 std::vector<long> parse_counts(const std::string& s, const std::string& option) {
   std::vector<long> out;
   std::stringstream ss(s);
@@ -403,7 +425,8 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 4096));
 
   render::RenderRunOptions render_opt;
-  std::string render_range, render_method = "levelset";
+  std::string render_range, render_method = "levelset", render_camera, render_look_at;
+  double render_fov = 0;
   int render_threads = 0;
   auto* render_cmd = app.add_subcommand("render", "Draw PNG pictures of a run's frames into RUN_DIR/render/");
   render_cmd->add_option("run_dir", mesh_args.run_dir, "Run directory (made by bakesim run)")->required();
@@ -422,6 +445,15 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(16, 8192));
   render_cmd->add_flag("--movie", render_opt.movie, "Also assemble an MP4 of the rendered frames (needs ffmpeg)");
   render_cmd->add_flag("--strip", render_opt.strip, "Also write an image strip of up to six of the rendered frames");
+  render_cmd->add_option("--camera", render_camera,
+                         "Camera position X,Y,Z (m); default: the scene's render.camera, "
+                         "else front-right and above, framing the bodies");
+  render_cmd->add_option("--look-at", render_look_at, "Point the camera looks at, X,Y,Z (m)");
+  render_cmd->add_option("--fov", render_fov, "Vertical field of view, degrees")->check(CLI::Range(1.0, 170.0));
+  render_cmd
+      ->add_option("--turntable", render_opt.turntable,
+                   "N views of each frame, the camera circling the vertical axis (files ...-turn-KKK.png)")
+      ->check(CLI::Range(1, 3600));
   render_cmd->add_option("--cut", render_opt.cut,
                          "Cut view: x, y or z (through the bodies' middle) or AXIS=METRES; the side of larger "
                          "coordinates is cut away and the cut face coloured like the surface (--colour)");
@@ -503,6 +535,9 @@ int main(int argc, char** argv) {
       const int threads = render_threads > 0 ? render_threads : static_cast<int>(tbb::info::default_concurrency());
       tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
       render_opt.range = parse_range(render_range, "render --range");
+      if (!render_camera.empty()) render_opt.camera_position = parse_point(render_camera, "render --camera");
+      if (!render_look_at.empty()) render_opt.look_at = parse_point(render_look_at, "render --look-at");
+      if (render_fov > 0) render_opt.field_of_view = render_fov;
       render_opt.method = surface::parse_surface_method(render_method);
       Stopwatch clock;
       const auto r = render::render_run(mesh_args.run_dir, render_opt);

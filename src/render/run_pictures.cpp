@@ -6,6 +6,8 @@
 #include <cmath>
 #include <cstdlib>
 
+#include <Eigen/Geometry>
+
 #include "core/errors.hpp"
 #include "io/files.hpp"
 
@@ -97,7 +99,13 @@ RenderRunResult render_run(const fs::path& run_dir, const RenderRunOptions& o) {
         break;  // every frame frames the same
     }
     settings.camera = frame_camera(box, Real(settings.width) / Real(settings.height));
+    if (o.camera_position && !o.look_at) settings.camera->look_at = 0.5 * (box.min + box.max);
   }
+  if (o.camera_position) settings.camera->position = *o.camera_position;
+  if (o.look_at) settings.camera->look_at = *o.look_at;
+  if (o.field_of_view) settings.camera->field_of_view = *o.field_of_view;
+  if (!((settings.camera->position - settings.camera->look_at).norm() > 0))
+    throw InputError("render --camera", "the camera is where it looks: give a position away from --look-at");
   if (!o.cut.empty()) settings.cut = parse_cut_plane(o.cut, bodies);
   const TextRenderer text;
   MeshSettings mesh_opts;
@@ -154,11 +162,25 @@ RenderRunResult render_run(const fs::path& run_dir, const RenderRunOptions& o) {
     return render_particles(pv, settings, text, tile ? nullptr : &bar, caption, props_at(f));
   };
   RenderRunResult result;
+  const Camera camera = *settings.camera;
   for (int f : frames) {
-    const fs::path file = out_dir / (stem + "-" + frame_stem(f) + ".png");
-    write_file_atomic(file, encode_png(draw(f, false)));
-    result.images.push_back(file);
+    if (o.turntable <= 0) {
+      const fs::path file = out_dir / (stem + "-" + frame_stem(f) + ".png");
+      write_file_atomic(file, encode_png(draw(f, false)));
+      result.images.push_back(file);
+      continue;
+    }
+    for (int k = 0; k < o.turntable; ++k) {
+      // About the vertical axis through the look-at point, counter-clockwise seen from above.
+      const Real angle = 2 * kPi * k / o.turntable;
+      const Eigen::AngleAxis<Real> turn(angle, Vec3::UnitY());
+      settings.camera->position = camera.look_at + turn * (camera.position - camera.look_at);
+      const fs::path file = out_dir / fmt::format("{}-{}-turn-{:03d}.png", stem, frame_stem(f), k);
+      write_file_atomic(file, encode_png(draw(f, false)));
+      result.images.push_back(file);
+    }
   }
+  settings.camera = camera;
   if (o.strip && !result.images.empty()) {
     // Up to six frames, evenly spread, in a row of full-size pictures (drawn again as tiles).
     const std::size_t n = std::min<std::size_t>(6, result.images.size());

@@ -4,6 +4,7 @@
 //   particles-COLOUR-NNNNN.png  the particles as spheres with a colour bar
 //   MODE-COLOUR.mp4             with --movie, when ffmpeg is installed
 //   MODE-COLOUR-strip.png       with --strip: up to six frames side by side
+//   MODE-COLOUR-NNNNN-turn-KKK.png  with --turntable N: N views around each frame
 //   MODE-COLOUR-cut-AXIS-NNNNN.png  with --cut: the part beyond a plane cut away,
 //                               the mesh's cut face coloured by the same quantity
 #include <filesystem>
@@ -27,6 +28,14 @@ struct RenderRunOptions {
   std::optional<int> width, height;  // override the scene's render size
   bool movie = false, strip = false;
   std::string cut;  // "" none; else a cut view (render.hpp, parse_cut_plane): "z", "x=0.01", ...
+  // The camera: replaces the scene's render.camera (and the automatic one) in
+  // the parts given; a position without look_at looks at the framed bodies' middle.
+  std::optional<Vec3> camera_position, look_at;
+  std::optional<Real> field_of_view;
+  // > 0: this many views of each frame, the camera circling the vertical axis
+  // through what it looks at (its height and distance kept), named
+  // ...-NNNNN-turn-KKK.png; a movie then turns.
+  int turntable = 0;
 };
 
 struct RenderRunResult {

@@ -48,6 +48,12 @@ check '[ $? -eq 0 ] && png "$OUT/col/render/mesh-browning-00002.png" && ! grep -
 check '[ $? -eq 0 ] && png "$OUT/col/render/mesh-temperature-cut-z-00002.png"' "render --cut z: a cut view"
 "$BAKESIM" render "$OUT/col" --mode particles --cut x=0.1 --width 160 --height 90 2>/dev/null
 check '[ $? -eq 0 ] && png "$OUT/col/render/particles-browning-cut-x-00002.png"' "render --mode particles --cut x=0.1"
+"$BAKESIM" render "$OUT/col" --turntable 3 --width 160 --height 90 2>/dev/null
+check '[ $? -eq 0 ] && png "$OUT/col/render/mesh-browning-00002-turn-000.png" && png "$OUT/col/render/mesh-browning-00002-turn-002.png" && ! cmp -s "$OUT/col/render/mesh-browning-00002-turn-000.png" "$OUT/col/render/mesh-browning-00002-turn-001.png"' "render --turntable 3: three different views"
+"$BAKESIM" render "$OUT/col" --camera 0.1,0.3,0.4 --look-at 0.1,0.1,0.1 --fov 25 --width 160 --height 90 2>/dev/null
+check '[ $? -eq 0 ] && ! cmp -s "$OUT/col/render/mesh-browning-00002.png" "$OUT/col/render/mesh-browning-00002-turn-000.png"' "render --camera --look-at --fov: another view"
+"$BAKESIM" render "$OUT/col" --camera 0.1,0.1 2>"$OUT/cam.txt"
+check '[ $? -eq 2 ] && grep -q "render --camera" "$OUT/cam.txt"' "a camera that is not X,Y,Z is refused (exit 2)"
 "$BAKESIM" render "$OUT/col" --cut q=1 2>"$OUT/cut.txt"
 check '[ $? -eq 2 ] && grep -q "render --cut" "$OUT/cut.txt"' "a bad --cut is refused naming the option (exit 2)"
 # The mesh file gone from beside the scene: that collider is left out, with a note; the picture is still made.
