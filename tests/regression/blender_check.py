@@ -1,30 +1,75 @@
-"""Run inside Blender: import a run with tools/blender_import_bakesim.py and
-check the result (one child per mesh, vertex colours, per-frame visibility)."""
+"""Run inside Blender (blender -b --factory-startup --python THIS -- ZIP RUN_DIR [PNG]):
+install and enable the bakesim add-on from its zip as Preferences > Install does,
+import a run with its operator and check what it built; with PNG, render the
+last frame there with Cycles."""
+import json
 import os
 import sys
 
 import bpy
 
 args = sys.argv[sys.argv.index("--") + 1:]
-importer, run = args[0], args[1]
-sys.argv = [sys.argv[0], "--", run]
-exec(compile(open(importer).read(), importer, "exec"))
+zip_path, run = args[0], args[1]
+png = args[2] if len(args) > 2 else None
+bpy.ops.preferences.addon_install(filepath=zip_path, overwrite=True)
+bpy.ops.preferences.addon_enable(module="bakesim_import")
+assert hasattr(bpy.ops.import_scene, "bakesim_run"), "the add-on did not register its operator"
+result = bpy.ops.import_scene.bakesim_run(directory=run)
+assert result == {"FINISHED"}, result
 
-meshes = sorted(f for f in os.listdir(os.path.join(run, "meshes")) if f.endswith(".ply"))
-root = bpy.data.objects[os.path.basename(os.path.normpath(run))]
-children = sorted(root.children, key=lambda o: o.name)
-assert len(children) == len(meshes), (len(children), len(meshes))
-for child in children:
-    mesh = child.data
-    has_colours = len(getattr(mesh, "color_attributes", [])) > 0 or len(getattr(mesh, "vertex_colors", [])) > 0
-    assert has_colours, f"{child.name}: no vertex colours"
-    assert len(mesh.polygons) > 100, f"{child.name}: {len(mesh.polygons)} faces"
-    assert child.material_slots[0].material.name == "bakesim_vertex_colours"
+doc = json.load(open(os.path.join(run, "scene.json")))
+name = doc["name"]
 scene = bpy.context.scene
-first = children[0]
-frame = int(first.name[-5:]) + 1
-scene.frame_set(frame)
-assert not first.hide_render, "a mesh is hidden on its own frame"
-scene.frame_set(frame + 1)
-assert first.hide_render, "a mesh shows on the next frame"
-print("blender_check: ok", len(children), "meshes")
+assert abs(scene.render.fps / scene.render.fps_base - doc["time"]["fps"]) < 1e-6, (scene.render.fps, doc["time"])
+frames = sorted(int(f[:5]) for f in os.listdir(os.path.join(run, "meshes")) if f.endswith(".ply"))
+assert (scene.frame_start, scene.frame_end) == (frames[0] + 1, frames[-1] + 1), (scene.frame_start, scene.frame_end)
+bodies = bpy.data.objects[f"{name}_bodies"]
+assert bodies.parent.name == name
+for f in frames:  # one object, its mesh swapped to each frame's
+    scene.frame_set(f + 1)
+    assert bodies.data.name == f"{name}_{f:05d}", (f, bodies.data.name)
+    assert len(bodies.data.polygons) > 100
+    assert len(bodies.data.uv_layers) > 0, "no UV map for the browning ramp"
+material = bodies.data.materials[0]
+assert material.name == "bakesim_baking" and "bakesim_ramp" in material.node_tree.nodes
+tray = bpy.data.objects[f"{name}_tray"]
+paddle = bpy.data.objects[f"{name}_paddle"]
+assert tray.data.materials[0].name == "bakesim_wood", tray.data.materials[0].name
+assert paddle.data.materials[0].name == "bakesim_metal", paddle.data.materials[0].name
+scene.frame_set(frames[0] + 1)
+first = [v.co.copy() for v in paddle.data.vertices]
+scene.frame_set(frames[-1] + 1)
+last = [v.co.copy() for v in paddle.data.vertices]
+assert max((a - b).length for a, b in zip(first, last)) > 1e-4, "the moving collider did not move"
+assert f"{name}_ghost" not in bpy.data.objects, "a hidden collider was imported"
+if png:
+    from mathutils import Vector
+    for default in ("Cube", "Light", "Camera"):  # the factory start-up scene's, around the run
+        if default in bpy.data.objects:
+            bpy.data.objects.remove(bpy.data.objects[default])
+    bpy.context.view_layer.update()
+    corners = [bodies.matrix_world @ Vector(c) for c in bodies.bound_box]
+    centre = sum(corners, Vector()) / 8
+    size = max((a - b).length for a in corners for b in corners)
+    target = bpy.data.objects.new("target", None)
+    target.location = centre
+    scene.collection.objects.link(target)
+    cam = bpy.data.objects.new("camera", bpy.data.cameras.new("camera"))
+    cam.location = centre + Vector((1.6, -2.2, 1.4)) * size
+    track = cam.constraints.new("TRACK_TO")
+    track.target, track.track_axis, track.up_axis = target, "TRACK_NEGATIVE_Z", "UP_Y"
+    scene.collection.objects.link(cam)
+    scene.camera = cam
+    sun = bpy.data.objects.new("sun", bpy.data.lights.new("sun", "SUN"))
+    sun.data.energy = 4
+    sun.rotation_euler = (0.6, 0.2, 0.5)
+    scene.collection.objects.link(sun)
+    scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.6, 0.65, 0.7, 1)
+    scene.render.engine = "CYCLES"
+    scene.cycles.samples = 32
+    scene.cycles.use_denoising = False  # Debian's Blender has no OpenImageDenoise
+    scene.render.resolution_x, scene.render.resolution_y = 480, 320
+    scene.render.filepath = png
+    bpy.ops.render.render(write_still=True)
+print("blender_check: ok", len(frames), "frames,", len([o for o in bpy.data.objects if o.get("bakesim_sequence")]),
+      "sequence objects")
