@@ -106,3 +106,41 @@ TEST(SurfaceMesh, ColouringFollowsTheParticlesAndTellsBubblesFromDough) {
   const auto pale = palette_colour(Palette::baking, 0.15), brown = palette_colour(Palette::baking, 0.95);
   EXPECT_GT(int(pale[0]) + pale[1] + pale[2], int(brown[0]) + brown[1] + brown[2] + 200);
 }
+
+// Issue 23: no lattice banding on flat faces. A box of lattice particles (20 ×
+// 12 × 16 spacings) meshed by the levelset method: on its front face, away from
+// the edges, the vertex normals' RMS angle from the face normal measures the
+// bumps each particle row leaves. Measured 6.4° without smoothing and 0.87°
+// with the default four mean-curvature steps (the face's mean position moves
+// by under 0.01 s); position noise 0.079 s → 0.011 s.
+TEST(SurfaceMesh, AFlatFaceOfALatticeBoxIsFlatWithinTwoDegrees) {
+  const Real s = 0.004;
+  surface::SurfaceParticles p;
+  p.spacing = s;
+  for (int i = 0; i < 20; ++i)
+    for (int j = 0; j < 12; ++j)
+      for (int k = 0; k < 16; ++k)
+        p.position.push_back(Vec3((i + 0.5) * s, (j + 0.5) * s, (k + 0.5) * s)), p.density_ratio.push_back(1);
+  auto face_noise = [&](int iterations) {
+    surface::SurfaceOptions o;
+    o.smoothing_iterations = iterations;
+    const surface::SurfaceMesh m = surface::reconstruct_surface(p, o);
+    double angle2 = 0, z = 0;
+    int n = 0;
+    for (std::size_t v = 0; v < m.vertices.size(); ++v) {
+      const auto& x = m.vertices[v];
+      if (x.z() < 14 * s || x.x() < 3 * s || x.x() > 17 * s || x.y() < 3 * s || x.y() > 9 * s) continue;
+      angle2 += std::pow(std::acos(std::min(1.0f, std::abs(m.normals[v].z()))) * 180 / kPi, 2);
+      z += x.z(), ++n;
+    }
+    EXPECT_GT(n, 100);
+    return std::make_pair(std::sqrt(angle2 / n), z / n / s);
+  };
+  const auto [raw, raw_face] = face_noise(0);
+  const auto [smooth, smooth_face] = face_noise(surface::SurfaceOptions{}.smoothing_iterations);
+  RecordProperty("normal_rms_deg", std::to_string(smooth));
+  EXPECT_GT(raw, 4.0);  // the measure sees the banding
+  EXPECT_LT(smooth, 2.0);
+  EXPECT_NEAR(smooth_face, raw_face, 0.1);
+  EXPECT_NEAR(smooth_face, 16.0, 0.3);  // the face where the box ends
+}
