@@ -544,8 +544,14 @@ PYBIND11_MODULE(_bakesim, m) {
   m.def(
       "_render",
       [](const fs::path& dir, std::vector<int> frames, bool all_frames, const std::string& mode,
-         const std::string& colour, bool movie, bool strip, const std::string& cut) {
+         const std::string& colour, bool movie, bool strip, const std::string& cut,
+         std::optional<std::array<double, 3>> camera, std::optional<std::array<double, 3>> look_at,
+         std::optional<Real> field_of_view, int turntable) {
         render::RenderRunOptions o;
+        if (camera) o.camera_position = Vec3((*camera)[0], (*camera)[1], (*camera)[2]);
+        if (look_at) o.look_at = Vec3((*look_at)[0], (*look_at)[1], (*look_at)[2]);
+        o.field_of_view = field_of_view;
+        o.turntable = turntable;
         o.frames = std::move(frames);
         o.all_frames = all_frames;
         o.mode = mode;
@@ -560,7 +566,8 @@ PYBIND11_MODULE(_bakesim, m) {
         return std::make_pair(files, r.note);
       },
       py::arg("run_dir"), py::arg("frames"), py::arg("all_frames"), py::arg("mode"), py::arg("colour"),
-      py::arg("movie"), py::arg("strip"), py::arg("cut"), py::call_guard<py::gil_scoped_release>());
+      py::arg("movie"), py::arg("strip"), py::arg("cut"), py::arg("camera"), py::arg("look_at"),
+      py::arg("field_of_view"), py::arg("turntable"), py::call_guard<py::gil_scoped_release>());
   m.def(
       "plot", [](const fs::path& dir) { return render::plot_run(dir); }, py::arg("run_dir"),
       py::call_guard<py::gil_scoped_release>(), "Plots of stats.csv into RUN_DIR/plots/; returns the files.");

@@ -246,6 +246,9 @@ class RunDirectories(Base):
         self.assertTrue(pictures and all(os.path.exists(p) for p in pictures))
         cut = bakesim.render(out, frames=[0], cut="z")
         self.assertEqual([os.path.basename(p) for p in cut], ["mesh-browning-cut-z-00000.png"])
+        turns = bakesim.render(out, frames=[0], turntable=2, camera=(0.1, 0.1, 0.2), field_of_view=30)
+        self.assertEqual([os.path.basename(p) for p in turns],
+                         ["mesh-browning-00000-turn-000.png", "mesh-browning-00000-turn-001.png"])
         plots = bakesim.plot(out)
         self.assertTrue(plots and all(os.path.exists(p) for p in plots))
         page = bakesim.report(out)
