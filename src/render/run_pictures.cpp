@@ -183,7 +183,7 @@ RenderRunResult render_run(const fs::path& run_dir, const RenderRunOptions& o) {
   settings.camera = camera;
   if (o.strip && !result.images.empty()) {
     // Up to six frames, evenly spread, in a row of full-size pictures (drawn again as tiles).
-    const std::size_t n = std::min<std::size_t>(6, result.images.size());
+    const std::size_t n = std::min<std::size_t>(6, frames.size());
     std::vector<Image> tiles;
     for (std::size_t k = 0; k < n; ++k)
       tiles.push_back(draw(frames[n == 1 ? 0 : k * (frames.size() - 1) / (n - 1)], true));
