@@ -367,6 +367,7 @@ ReportResult write_report_of(const fs::path& run_dir, const ReportOptions& o) {
     notes.push_back(std::string("no frames: ") + e.what());
   }
   std::vector<std::pair<int, fs::path>> pictures;
+  std::optional<std::pair<int, fs::path>> cut_picture;
   if (!frames.empty()) {
     const std::vector<int> wanted = frames.size() > 1 ? std::vector<int>{frames.begin()->first, frames.rbegin()->first}
                                                       : std::vector<int>{frames.begin()->first};
@@ -385,6 +386,20 @@ ReportResult write_report_of(const fs::path& run_dir, const ReportOptions& o) {
     }
     for (int f : wanted)
       if (fs::is_regular_file(picture_of(f))) pictures.emplace_back(f, picture_of(f));
+    // The last frame cut in half (render --cut z): the crumb, the moist core or the unset centre inside.
+    const int last = frames.rbegin()->first;
+    const fs::path cut = run_dir / "render" / fmt::format("mesh-browning-cut-z-{}.png", frame_stem(last));
+    if (!fs::is_regular_file(cut) && o.draw_pictures) {
+      try {
+        RenderRunOptions ro;
+        ro.frames = {last};
+        ro.cut = "z";
+        render_run(run_dir, ro);
+      } catch (const std::exception& e) {
+        notes.push_back(std::string("no cut view: ") + e.what());
+      }
+    }
+    if (fs::is_regular_file(cut)) cut_picture = std::make_pair(last, cut);
   }
   std::optional<CrustColour> crust;
   if (!frames.empty()) crust = crust_colour(frames.rbegin()->second, scene, notes);
@@ -472,6 +487,14 @@ ReportResult write_report_of(const fs::path& run_dir, const ReportOptions& o) {
       h += fmt::format(
           "<figure><img src=\"data:image/png;base64,{}\" alt=\"frame {}\"><figcaption>frame {}, {} min of bake "
           "(browning)</figcaption></figure>\n",
+          base64(read_file(file)), f, f, number(minutes[row], 1));
+    }
+    if (cut_picture) {
+      const auto& [f, file] = *cut_picture;
+      const std::size_t row = std::min<std::size_t>(std::size_t(f), minutes.size() - 1);
+      h += fmt::format(
+          "<figure><img src=\"data:image/png;base64,{}\" alt=\"frame {} cut in half\"><figcaption>frame {}, {} min "
+          "of bake, cut through the middle (browning inside and out)</figcaption></figure>\n",
           base64(read_file(file)), f, f, number(minutes[row], 1));
     }
     h += "</div>\n";

@@ -3,7 +3,7 @@
 // self-contained HTML page (no file or network it needs beside itself) with
 // what the bake did: the key numbers per body (time for the core to reach
 // 95 °C, final core and crust temperature, rise, height, moisture and weight
-// loss, crust colour, heat in), pictures of the first and last frame, SVG plots
+// loss, crust colour, heat in), pictures of the first and last frame and the last frame cut in half, SVG plots
 // with units (temperatures with the doneness line, volume, height, moisture
 // loss) with measured data overlaid, and the scene's summary.
 //
@@ -26,7 +26,7 @@ struct ReportOptions {
   std::vector<std::string> compare;  // FILE or FILE=STATS_COLUMN
   std::filesystem::path output;      // default RUN_DIR/report.html
   std::string generator = "bakesim";
-  bool draw_pictures = true;  // render the first and last frame when render/ has no picture of them
+  bool draw_pictures = true;  // render the first and last frame and the cut view when render/ has no picture of them
 };
 
 struct ReportResult {

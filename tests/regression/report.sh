@@ -27,7 +27,7 @@ cat "$OUT/seen.txt"
 seen() { grep -qx "$1" "$OUT/seen.txt"; }
 check 'seen "title=bakesim report: cookie-preview"' "Chromium loads the page"
 check 'seen "plots=4" && seen "plots_drawn=4"' "four SVG plots, laid out (temperature, volume, rise, moisture)"
-check 'seen "images=2" && seen "images_decoded=2"' "the pictures of the first and last frame decode"
+check 'seen "images=3" && seen "images_decoded=3"' "the pictures of the first and last frame and the cut view of the last decode"
 check 'seen "measured_markers=$rows"' "every measured point is drawn on the temperature plot ($rows)"
 check 'seen "done_line=true"' "the temperature plot has the doneness line"
 check 'seen "rms=2.00 °C"' "the RMS difference from the measured data is 2.00 degC"
