@@ -1,6 +1,7 @@
 #include "geometry/collider_mesh.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include <Eigen/Geometry>
@@ -9,18 +10,30 @@ namespace bakesim {
 
 namespace {
 
-// Appends a solid box (12 triangles, outward).
-void add_box(TriangleMesh& m, const Aabb& b) {
+// Appends a hexahedron (12 triangles) from its corners numbered as a box's,
+// bit 0, 1, 2 of k choosing the far side along the first, second, third edge
+// direction. Outward when those directions form a right-handed frame; for a
+// left-handed one each face is wound the other way round.
+void add_hexahedron(TriangleMesh& m, const std::array<Vec3, 8>& corners, bool left_handed) {
   const int o = int(m.vertices.size());
-  for (int k = 0; k < 8; ++k)
-    m.vertices.emplace_back(k & 1 ? b.max.x() : b.min.x(), k & 2 ? b.max.y() : b.min.y(),
-                            k & 4 ? b.max.z() : b.min.z());
-  // Faces as quads of corner indices, counter-clockwise seen from outside.
+  m.vertices.insert(m.vertices.end(), corners.begin(), corners.end());
+  // Faces as quads of corner indices, counter-clockwise seen from outside (right-handed).
   const int quads[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
   for (const auto& q : quads) {
-    m.triangles.push_back({o + q[0], o + q[1], o + q[2]});
-    m.triangles.push_back({o + q[0], o + q[2], o + q[3]});
+    const int b = left_handed ? q[2] : q[1], d = left_handed ? q[1] : q[2];
+    const int e = left_handed ? q[3] : q[2], f = left_handed ? q[2] : q[3];
+    m.triangles.push_back({o + q[0], o + b, o + d});
+    m.triangles.push_back({o + q[0], o + e, o + f});
   }
+}
+
+// Appends a solid axis-aligned box, outward.
+void add_box(TriangleMesh& m, const Aabb& b) {
+  std::array<Vec3, 8> corners;
+  for (int k = 0; k < 8; ++k)
+    corners[std::size_t(k)] =
+        Vec3(k & 1 ? b.max.x() : b.min.x(), k & 2 ? b.max.y() : b.min.y(), k & 4 ? b.max.z() : b.min.z());
+  add_hexahedron(m, corners, false);
 }
 
 // Appends a solid ring r_in ≤ ρ ≤ r_out, h0 ≤ (x − base)·axis ≤ h1 (r_in = 0:
@@ -74,18 +87,13 @@ TriangleMesh collider_rest_mesh(const ColliderGeometry& geometry, const Vec3& fo
                    const Vec3 centre = focus - p.normal.dot(focus - p.point) * p.normal;
                    const Vec3 e1 = p.normal.unitOrthogonal(), e2 = p.normal.cross(e1);
                    const Real depth = kPlaneSlabThickness * half_width;
-                   const int o = int(m.vertices.size());
+                   // Corners along (e1, e2, −normal): e1 × e2 = normal, so that frame is left-handed.
+                   std::array<Vec3, 8> corners;
                    for (int k = 0; k < 8; ++k)
-                     m.vertices.push_back(centre + (k & 1 ? half_width : -half_width) * e1 +
-                                          (k & 2 ? half_width : -half_width) * e2 - (k & 4 ? depth : 0.0) * p.normal);
-                   // Same corner numbering as add_box with (e1, e2, −normal) for (x, y, z): that frame is
-                   // left-handed, so each face is wound the other way round.
-                   const int quads[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4},
-                                            {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
-                   for (const auto& q : quads) {
-                     m.triangles.push_back({o + q[0], o + q[2], o + q[1]});
-                     m.triangles.push_back({o + q[0], o + q[3], o + q[2]});
-                   }
+                     corners[std::size_t(k)] = centre + (k & 1 ? half_width : -half_width) * e1 +
+                                               (k & 2 ? half_width : -half_width) * e2 -
+                                               (k & 4 ? depth : 0.0) * p.normal;
+                   add_hexahedron(m, corners, true);
                  },
                  [&](const BoxCollider& b) { add_box(m, b.box); },
                  [&](const ContainerCollider& c) {

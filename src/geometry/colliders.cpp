@@ -272,6 +272,16 @@ ColliderLook parse_collider_look(const std::string& name, const ColliderGeometry
   throw InputError(where, "unknown look '" + name + "' (auto, metal, ceramic, glass, wood, hidden)");
 }
 
+Vec3 look_albedo(ColliderLook look) {
+  switch (look) {
+    case ColliderLook::metal: return {0.42, 0.43, 0.45};    // aluminium or tinned steel
+    case ColliderLook::ceramic: return {0.80, 0.78, 0.72};  // glazed white
+    case ColliderLook::glass: return {0.95, 0.98, 0.98};    // slightly tinted
+    case ColliderLook::wood: return {0.42, 0.25, 0.12};     // a beech board
+    default: return {0.5, 0.5, 0.5};
+  }
+}
+
 std::string to_string(ColliderLook look) {
   switch (look) {
     case ColliderLook::metal: return "metal";

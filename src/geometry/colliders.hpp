@@ -103,6 +103,9 @@ ColliderLook default_look(const ColliderGeometry& geometry);
 // "auto" is default_look; InputError(where, ...) for other names.
 ColliderLook parse_collider_look(const std::string& name, const ColliderGeometry& geometry, const std::string& where);
 std::string to_string(ColliderLook look);
+// A look's linear RGB albedo (the pictures shade with it; exported meshes carry
+// it in sRGB; glass: what one face lets through).
+Vec3 look_albedo(ColliderLook look);
 
 // One collider for both solvers: its geometry in the rest pose, the contact
 // law (geometry/contact.hpp), an optional scripted rigid motion, an

@@ -189,10 +189,11 @@ ParticleSet read_particle_frame(const fs::path& ply) {
   return particles_from_ply(parse_ply(bytes, ply.string()), ply.string());
 }
 
-Real frame_time(const RunDirectory& run, int frame) {
-  const double fps = run.scene.contains("time") ? run.scene["time"].value("fps", 30.0) : 30.0;
-  return frame / fps;
+Real frame_rate(const RunDirectory& run) {
+  return run.scene.contains("time") ? run.scene["time"].value("fps", 30.0) : 30.0;
 }
+
+Real frame_time(const RunDirectory& run, int frame) { return frame / frame_rate(run); }
 
 std::vector<Collider> run_colliders(const RunDirectory& run, std::vector<std::string>& missing) {
   std::vector<Collider> out;
@@ -236,25 +237,14 @@ surface::SurfaceMesh collider_surface(const PosedCollider& collider) {
   const TriangleMesh& t = collider.mesh;
   m.vertices.reserve(t.vertices.size());
   for (const Vec3& v : t.vertices) m.vertices.push_back(v.cast<float>());
-  std::vector<Vec3> normals(t.vertices.size(), Vec3::Zero());
-  for (std::size_t k = 0; k < t.triangles.size(); ++k) {
-    const auto& tri = t.triangles[k];
-    const Vec3 area = (t.vertices[tri[1]] - t.vertices[tri[0]]).cross(t.vertices[tri[2]] - t.vertices[tri[0]]);
-    for (int v : tri) normals[std::size_t(v)] += area;
+  for (const auto& tri : t.triangles)
     m.triangles.push_back({std::uint32_t(tri[0]), std::uint32_t(tri[1]), std::uint32_t(tri[2])});
-  }
-  for (const Vec3& n : normals) m.normals.push_back((n.norm() > 0 ? n.normalized() : Vec3::UnitY()).cast<float>());
-  // The look's albedo in sRGB, as the pictures show it.
-  const auto colour = [&] {
-    static const std::map<ColliderLook, std::array<std::uint8_t, 3>> kColours = {
-        {ColliderLook::metal, {173, 175, 178}},
-        {ColliderLook::ceramic, {231, 228, 220}},
-        {ColliderLook::glass, {243, 250, 251}},
-        {ColliderLook::wood, {172, 136, 97}}};
-    const auto it = kColours.find(collider.look);
-    return it == kColours.end() ? std::array<std::uint8_t, 3>{128, 128, 128} : it->second;
-  }();
-  m.colours.assign(m.vertices.size(), colour);
+  surface::compute_normals(m);
+  // The look's albedo in sRGB (gamma 2.2, as the pictures decode colours).
+  const Vec3 albedo = look_albedo(collider.look);
+  std::array<std::uint8_t, 3> srgb;
+  for (int k = 0; k < 3; ++k) srgb[std::size_t(k)] = std::uint8_t(std::lround(255 * std::pow(albedo[k], 1 / 2.2)));
+  m.colours.assign(m.vertices.size(), srgb);
   return m;
 }
 

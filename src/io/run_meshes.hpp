@@ -71,7 +71,8 @@ struct RunDirectory {
 };
 RunDirectory open_run(const std::filesystem::path& dir);  // InputError when it is not a run directory
 ParticleSet read_particle_frame(const std::filesystem::path& ply);
-// Simulated time of a frame (frame / time.fps).
+// The scene's frames per simulated second (time.fps) and the simulated time of a frame.
+Real frame_rate(const RunDirectory& run);
 Real frame_time(const RunDirectory& run, int frame);
 
 // The run's colliders as its scene builds them. A mesh collider whose file

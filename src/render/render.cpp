@@ -312,7 +312,7 @@ Image trace(RayScene& rs, const Aabb& bodies, const RenderSettings& s, const Sur
                 albedo = Vec3f(0.78f, 0.76f, 0.73f);
                 n = Vec3f(0, 1, 0);
               } else if (prop) {
-                albedo = look_albedo(prop->prop->look);
+                albedo = look_albedo(prop->prop->look).cast<float>();
                 if (prop->prop->look == ColliderLook::wood) albedo *= wood_grain(prop->box, p);
                 n = prop->prop->mesh.normal(rh.hit.primID).cast<float>();  // outward
                 if (cut && prop->prop->look != ColliderLook::glass && n.dot(dir) > 0) cut_face(origin, dir, p, n);
@@ -426,16 +426,6 @@ Aabb framing_box(const Aabb& bodies, const std::vector<Prop>& props) {
     if ((clipped.min.array() <= clipped.max.array()).all()) frame.expand(clipped.min), frame.expand(clipped.max);
   }
   return frame;
-}
-
-Eigen::Vector3f look_albedo(ColliderLook look) {
-  switch (look) {
-    case ColliderLook::metal: return {0.42f, 0.43f, 0.45f};    // aluminium or tinned steel
-    case ColliderLook::ceramic: return {0.80f, 0.78f, 0.72f};  // glazed white
-    case ColliderLook::glass: return {0.95f, 0.98f, 0.98f};    // what one face lets through, tinted
-    case ColliderLook::wood: return {0.42f, 0.25f, 0.12f};     // a beech board
-    default: return {0.5f, 0.5f, 0.5f};
-  }
 }
 
 Image render_mesh(const surface::SurfaceMesh& mesh, const RenderSettings& s, const TextRenderer& text,

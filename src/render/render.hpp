@@ -83,9 +83,6 @@ struct Prop {
 // within one body size of them.
 Aabb framing_box(const Aabb& bodies, const std::vector<Prop>& props);
 
-// Linear albedo of a look (what the pictures shade it with, before grain).
-Eigen::Vector3f look_albedo(ColliderLook look);
-
 // The ground plane lies under the lowest body or prop; the automatic camera
 // frames the bodies and the parts of props within one body size of them.
 Image render_mesh(const surface::SurfaceMesh& mesh, const RenderSettings& settings, const TextRenderer& text,

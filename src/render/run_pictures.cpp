@@ -115,14 +115,11 @@ RenderRunResult render_run(const fs::path& run_dir, const RenderRunOptions& o) {
   const fs::path out_dir = run_dir / "render";
   ensure_directory(out_dir);
   const std::string scene_name = run.scene.value("name", std::string("bake"));
-  const double fps = run.scene.contains("time") ? run.scene["time"].value("fps", 30.0) : 30.0;
+  const double fps = frame_rate(run);
   const double bake_scale =
       run.scene.contains("environment") ? run.scene["environment"].value("bake_time_scale", 1.0) : 1.0;
-  const std::string stem = o.mode + "-" + o.colour +
-                           (settings.cut ? "-cut-" + std::string(1, "xyz"[settings.cut->normal.y() != 0   ? 1
-                                                                          : settings.cut->normal.z() != 0 ? 2
-                                                                                                          : 0])
-                                         : "");
+  // The cut's axis names the pictures (parse_cut_plane accepted AXIS or AXIS=VALUE).
+  const std::string stem = o.mode + "-" + o.colour + (settings.cut ? "-cut-" + o.cut.substr(0, 1) : "");
   // One frame's picture: with its colour bar and full caption, or (a strip's tile) with the bake time only.
   const auto draw = [&](int f, bool tile) {
     const ParticleSet ps = read_particle_frame(run.frames.at(f));
@@ -131,7 +128,7 @@ RenderRunResult render_run(const fs::path& run_dir, const RenderRunOptions& o) {
     bar.label = o.colour;
     bar.low = range.first, bar.high = range.second;
     bar.palette = colour_palette(o.colour);
-    const double bake = f / fps * bake_scale;
+    const double bake = frame_time(run, f) * bake_scale;
     const std::string when = bake >= 120 ? fmt::format("{:.1f} min", bake / 60) : fmt::format("{:.2f} s", bake);
     const std::string caption = tile ? when : fmt::format("{}   frame {}   bake {}", scene_name, f, when);
     if (o.mode == "mesh") {
@@ -192,13 +189,13 @@ RenderRunResult render_run(const fs::path& run_dir, const RenderRunOptions& o) {
     result.strip = out_dir / (stem + "-strip.png");
     write_file_atomic(*result.strip, encode_png(strip));
   }
-  for (const std::string& m : missing) result.note += (result.note.empty() ? "" : "; ") + m;
+  const auto add_note = [&](const std::string& note) { result.note += (result.note.empty() ? "" : "; ") + note; };
+  for (const std::string& m : missing) add_note(m);
   if (o.movie) {
     if (!has_program("ffmpeg")) {
-      result.note +=
-          std::string(result.note.empty() ? "" : "; ") + "no movie: ffmpeg is not installed (apt-get install ffmpeg)";
+      add_note("no movie: ffmpeg is not installed (apt-get install ffmpeg)");
     } else if (result.images.size() < 2) {
-      result.note += std::string(result.note.empty() ? "" : "; ") + "no movie: only one frame was rendered (use --all)";
+      add_note("no movie: only one frame was rendered (use --all)");
     } else {
       const fs::path movie = out_dir / (stem + ".mp4");
       const double movie_fps = std::clamp(fps, 1.0, 60.0);

@@ -74,39 +74,56 @@ openvdb::FloatGrid::Ptr level_set(const SurfaceParticles& particles, const Surfa
   return grid;
 }
 
-// Σ_i φ_W(|x − x_i|, b_i), stored negated so that inside is below the isovalue
-// as volume-to-mesh expects. Particles are rasterised in fixed chunks, each
-// into its own grid, and the grids are summed in chunk order: the result does
-// not depend on the thread count.
-openvdb::FloatGrid::Ptr wyvill_grid(const SurfaceParticles& particles, const SurfaceOptions& o, Real voxel) {
+// Rasterises particles onto Grids float grids: add(accessors, i, ijk, r, b) for
+// every voxel centre within b = radius(i) of particle i (r its distance).
+// Particles go in fixed chunks, each into grids of its own, summed in chunk
+// order: the result does not depend on the thread count.
+template <std::size_t Grids, class Radius, class Add>
+std::array<openvdb::FloatGrid::Ptr, Grids> rasterise_in_chunks(const SurfaceParticles& particles,
+                                                               const openvdb::math::Transform& transform,
+                                                               const Radius& radius, const Add& add) {
   const std::size_t n = particles.position.size();
   constexpr std::size_t kChunk = 8192;
   const std::size_t chunks = (n + kChunk - 1) / kChunk;
-  const auto transform = openvdb::math::Transform::createLinearTransform(voxel);
-  std::vector<openvdb::FloatGrid::Ptr> grids(chunks);
+  const Real voxel = transform.voxelSize()[0];
+  std::vector<std::array<openvdb::FloatGrid::Ptr, Grids>> grids(chunks);
   tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
-    auto g = openvdb::FloatGrid::create(0.0f);
-    g->setTransform(transform->copy());
-    auto acc = g->getAccessor();
+    std::array<openvdb::FloatGrid::Ptr, Grids>& mine = grids[c];
+    std::vector<openvdb::FloatGrid::Accessor> acc;
+    for (auto& g : mine) {
+      g = openvdb::FloatGrid::create(0.0f);
+      g->setTransform(transform.copy());
+      acc.push_back(g->getAccessor());
+    }
     const std::size_t end = std::min(n, (c + 1) * kChunk);
     for (std::size_t i = c * kChunk; i < end; ++i) {
       const Vec3& x = particles.position[i];
-      const Real b =
-          (o.wyvill_alpha + o.wyvill_beta * std::clamp(particles.density_ratio[i], 0.5, 8.0)) * particles.spacing;
+      const Real b = radius(i);
       const Vec3 lo = (x.array() - b) / voxel, hi = (x.array() + b) / voxel;
       for (int k = int(std::ceil(lo.z())); k <= int(std::floor(hi.z())); ++k)
         for (int j = int(std::ceil(lo.y())); j <= int(std::floor(hi.y())); ++j)
           for (int l = int(std::ceil(lo.x())); l <= int(std::floor(hi.x())); ++l) {
             const Real r = (Vec3(l, j, k) * voxel - x).norm();
-            if (r >= b) continue;
-            const openvdb::Coord ijk(l, j, k);
-            acc.setValue(ijk, acc.getValue(ijk) - float(wyvill_field(r, b)));
+            if (r < b) add(acc, i, openvdb::Coord(l, j, k), r, b);
           }
     }
-    grids[c] = g;
   });
-  for (std::size_t c = 1; c < chunks; ++c) openvdb::tools::compSum(*grids[0], *grids[c]);
+  for (std::size_t c = 1; c < chunks; ++c)
+    for (std::size_t g = 0; g < Grids; ++g) openvdb::tools::compSum(*grids[0][g], *grids[c][g]);
   return grids[0];
+}
+
+// Σ_i φ_W(|x − x_i|, b_i), stored negated so that inside is below the isovalue
+// as volume-to-mesh expects.
+openvdb::FloatGrid::Ptr wyvill_grid(const SurfaceParticles& particles, const SurfaceOptions& o, Real voxel) {
+  const auto transform = openvdb::math::Transform::createLinearTransform(voxel);
+  const auto radius = [&](std::size_t i) {
+    return (o.wyvill_alpha + o.wyvill_beta * std::clamp(particles.density_ratio[i], 0.5, 8.0)) * particles.spacing;
+  };
+  return rasterise_in_chunks<1>(particles, *transform, radius,
+                                [](auto& acc, std::size_t, const openvdb::Coord& ijk, Real r, Real b) {
+                                  acc[0].setValue(ijk, acc[0].getValue(ijk) - float(wyvill_field(r, b)));
+                                })[0];
 }
 
 Real spline(Real r, Real support);  // below, with the colouring
@@ -118,43 +135,18 @@ Real voxel_size(const SurfaceParticles& particles, const SurfaceOptions& o) {
 }
 
 // Σ_i w_i v_i and Σ_i w_i over the voxels within `support` of each particle,
-// w_i = volume_i W(r, support), rasterised in fixed chunks and summed in chunk
-// order (as wyvill_grid): the same on any thread count.
-std::pair<openvdb::FloatGrid::Ptr, openvdb::FloatGrid::Ptr> weighted_sums(const SurfaceParticles& particles,
-                                                                          const std::vector<Real>& value,
-                                                                          const openvdb::math::Transform& transform,
-                                                                          Real support) {
-  const std::size_t n = particles.position.size();
-  constexpr std::size_t kChunk = 8192;
-  const std::size_t chunks = (n + kChunk - 1) / kChunk;
-  const Real voxel = transform.voxelSize()[0];
+// w_i = volume_i W(r, support).
+std::array<openvdb::FloatGrid::Ptr, 2> weighted_sums(const SurfaceParticles& particles, const std::vector<Real>& value,
+                                                     const openvdb::math::Transform& transform, Real support) {
   const Real cell = particles.spacing * particles.spacing * particles.spacing;
-  std::vector<openvdb::FloatGrid::Ptr> nums(chunks), dens(chunks);
-  tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
-    auto num = openvdb::FloatGrid::create(0.0f), den = openvdb::FloatGrid::create(0.0f);
-    num->setTransform(transform.copy()), den->setTransform(transform.copy());
-    auto a_num = num->getAccessor();
-    auto a_den = den->getAccessor();
-    const std::size_t end = std::min(n, (c + 1) * kChunk);
-    for (std::size_t i = c * kChunk; i < end; ++i) {
-      const Vec3& x = particles.position[i];
-      const Real volume = cell * particles.density_ratio[i];
-      const Vec3 lo = (x.array() - support) / voxel, hi = (x.array() + support) / voxel;
-      for (int k = int(std::ceil(lo.z())); k <= int(std::floor(hi.z())); ++k)
-        for (int j = int(std::ceil(lo.y())); j <= int(std::floor(hi.y())); ++j)
-          for (int l = int(std::ceil(lo.x())); l <= int(std::floor(hi.x())); ++l) {
-            const Real w = volume * spline((Vec3(l, j, k) * voxel - x).norm(), support);
-            if (!(w > 0)) continue;
-            const openvdb::Coord ijk(l, j, k);
-            a_num.setValue(ijk, a_num.getValue(ijk) + float(w * value[i]));
-            a_den.setValue(ijk, a_den.getValue(ijk) + float(w));
-          }
-    }
-    nums[c] = num, dens[c] = den;
-  });
-  for (std::size_t c = 1; c < chunks; ++c)
-    openvdb::tools::compSum(*nums[0], *nums[c]), openvdb::tools::compSum(*dens[0], *dens[c]);
-  return {nums[0], dens[0]};
+  return rasterise_in_chunks<2>(
+      particles, transform, [&](std::size_t) { return support; },
+      [&](auto& acc, std::size_t i, const openvdb::Coord& ijk, Real r, Real) {
+        const Real w = cell * particles.density_ratio[i] * spline(r, support);
+        if (!(w > 0)) return;
+        acc[0].setValue(ijk, acc[0].getValue(ijk) + float(w * value[i]));
+        acc[1].setValue(ijk, acc[1].getValue(ijk) + float(w));
+      });
 }
 
 }  // namespace

@@ -48,7 +48,7 @@ struct SurfaceOptions {
   Real voxel_ratio = 0;  // voxel size / s; 0: the method's default (levelset 0.75, wyvill 0.5)
   // levelset
   Real sphere_radius = 1.5;      // × s c_i
-  int smoothing_iterations = 4;  // mean-curvature flow steps before meshing (kDefault below)
+  int smoothing_iterations = 4;  // mean-curvature flow steps before meshing (flatten lattice bands; docs/surfaces.md)
   // wyvill (Eq 3.60: b_i = (α + β ρ0/ρ_i) s)
   Real wyvill_alpha = 1.0;
   Real wyvill_beta = 1.0;

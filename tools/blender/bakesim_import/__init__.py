@@ -99,6 +99,7 @@ def _look_material(look):
     mat = bpy.data.materials.new(name)
     mat.use_nodes = True
     bsdf = mat.node_tree.nodes.get("Principled BSDF")
+    # The colours mirror look_albedo (src/geometry/colliders.cpp), linear RGB.
     colour, metallic, roughness, transmission = {
         "metal": ((0.42, 0.43, 0.45), 1.0, 0.35, 0.0),
         "ceramic": ((0.80, 0.78, 0.72), 0.0, 0.15, 0.0),
