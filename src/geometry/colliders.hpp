@@ -63,6 +63,7 @@ struct CupCollider {
 // The inside of a box is free; everything outside is solid (domain walls).
 struct InsideBoxCollider {
   Aabb box;
+  std::array<bool, 3> open{false, false, false};  // no faces along these axes (periodic domain)
 };
 
 // Signed distance of a triangle mesh sampled on a regular grid (negative
@@ -198,6 +199,7 @@ void for_each_wall(const ColliderGeometry& g, const Vec3& p, Real range, Fn&& fn
                  [&](const InsideBoxCollider& inside) {
                    const Aabb& b = inside.box;
                    for (int k = 0; k < 3; ++k) {
+                     if (inside.open[std::size_t(k)]) continue;
                      const Real lo = p[k] - b.min[k], hi = b.max[k] - p[k];
                      if (lo < range) fn(WallContact{lo, Vec3::Unit(k)});
                      if (hi < range) fn(WallContact{hi, -Vec3::Unit(k)});

@@ -260,6 +260,14 @@ SceneParts read_common(const Ctx& c, const json& doc, FrictionModel solver_frict
   world.domain_contact.friction_model = friction_model(doc["domain"], solver_friction);
   world.domain_contact.friction = doc["domain"]["friction"].get<double>();
   world.domain_contact.damping = doc["domain"]["damping"].get<double>();
+  // SPH only for now: an MPM scene does not hold the key.
+  const json periodic = doc["domain"].value("periodic", json::array());
+  for (std::size_t i = 0; i < periodic.size(); ++i) {
+    const int axis = periodic[i].get<std::string>()[0] - 'x';
+    if (world.periodic[std::size_t(axis)])
+      c.fail(fmt::format("domain.periodic[{}]", i), fmt::format("axis '{}' is listed twice", char('x' + axis)));
+    world.periodic[std::size_t(axis)] = true;
+  }
   world.gravity = vec3(doc["gravity"]);
   world.oven = build_oven(c, doc["environment"]);
   for (std::size_t i = 0; i < doc["bodies"].size(); ++i) {

@@ -32,6 +32,14 @@ sph::Material build_material(const Ctx& c, const std::string& name, const json& 
   if (std::visit([](const auto& curve) { return curve(-273.15) <= 0 || curve(2000.0) <= 0; }, mat.relaxation_time))
     c.fail(path + ".relaxation_time", "must stay above 0 s at every temperature");
   mat.moisture = build_pore_water(m);
+  if (m.contains("herschel_bulkley")) {
+    const json& hb = m["herschel_bulkley"];
+    sph::Material::YieldFlow flow;
+    flow.yield_stress = build_curve(c, path + ".herschel_bulkley.yield_stress", hb["yield_stress"]);
+    flow.flow_index = hb["flow_index"].get<double>();
+    flow.regularisation = hb["regularisation_rate"].get<double>();
+    mat.yield_flow = flow;
+  }
   return mat;
 }
 
@@ -134,6 +142,15 @@ sph::Setup build_sph_setup(const Ctx& c, json& doc, const SceneParts& parts) {
   }
 
   const Real h = st.spacing * st.smoothing_ratio;
+  // A neighbour must be found once: along a periodic axis the box is longer
+  // than two of the largest supports.
+  const Real h_max = h * (st.adaptive.enabled ? std::max(Real(1), st.adaptive.max_ratio) : Real(1));
+  for (int k = 0; k < 3; ++k)
+    if (setup.periodic[std::size_t(k)] && setup.domain.extent()[k] <= 2.0 * h_max)
+      c.fail("domain.periodic",
+             fmt::format("the domain is {:.4g} m long along the periodic axis {}, which must exceed two smoothing "
+                         "supports ({:.4g} m): make it longer or the spacing smaller",
+                         setup.domain.extent()[k], char('x' + k), 2.0 * h_max));
   for (std::size_t i = 0; i < doc["colliders"].size(); ++i) {
     const json& cj = doc["colliders"][i];
     Collider col = build_collider(c, cj, i, h, FrictionModel::velocity_share, parts.world.oven);

@@ -64,6 +64,30 @@ WallKernelShare::WallKernelShare(const CubicSpline& k, Real s, Real lattice_sum,
   }
 }
 
+Real viscosity_lattice_calibration(const CubicSpline& k, Real s, Real lattice_sum) {
+  const Real h = k.support();
+  const ViscosityLaplacian lap(h);
+  const int n = static_cast<int>(std::ceil(h / s)) + 1;
+  // Σ_j V C (h − r) x_j² for v = x² (∇²v = 2), V = 1/lattice_sum.
+  Real sum = 0;
+  for (int i = -n; i <= n; ++i)
+    for (int j = -n; j <= n; ++j)
+      for (int l = -n; l <= n; ++l) {
+        const Real r = s * std::sqrt(Real(i * i + j * j + l * l));
+        sum += lap(r) * (s * i) * (s * i);
+      }
+  return 2.0 / (sum / lattice_sum);
+}
+
+Real WallGhostSum::operator()(Real d) const {
+  if (d >= h_) return 0.0;
+  const int n = static_cast<int>(table_.size()) - 1;
+  const Real x = std::clamp(d / h_, 0.0, 1.0) * n;
+  const int i = std::min(n - 1, static_cast<int>(x));
+  const Real f = x - i;
+  return table_[std::size_t(i)] * (1 - f) + table_[std::size_t(i) + 1] * f;
+}
+
 Real WallKernelShare::lookup(const std::vector<Real>& t, Real d) const {
   const int n = static_cast<int>(t.size()) - 1;
   const Real x = std::clamp(d / h_, 0.0, 1.0) * n;

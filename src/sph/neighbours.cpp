@@ -173,14 +173,17 @@ void NeighbourSearch::find(const std::vector<Vec3>& x, const std::vector<Real>& 
       const Real hij = 0.5 * (hi + support[j]);
       if (d2 < hij * hij && j != i) emit(j, d2);
     };
-    if (!tree) {
-      grid_.for_each_within(xi, radius, [&](std::uint32_t j) { test(j, (xi - x[j]).squaredNorm()); });
-    } else {
-      ForwardingResultSet<decltype(test)> rs{radius * radius, static_cast<std::uint32_t>(i), test};
-      tree->findNeighbors(rs, xi.data(), nanoflann::SearchParams(32, 0, false));
-    }
+    for_each_image(xi, radius, [&](const Vec3& shift) {
+      const Vec3 q = xi + shift;
+      if (!tree) {
+        grid_.for_each_within(q, radius, [&](std::uint32_t j) { test(j, (q - x[j]).squaredNorm()); });
+      } else {
+        ForwardingResultSet<decltype(test)> rs{radius * radius, static_cast<std::uint32_t>(i), test};
+        tree->findNeighbors(rs, q.data(), nanoflann::SearchParams(32, 0, false));
+      }
+    });
   });
-  if (tree) sort_lists(lists);
+  if (tree || periodicity_.any()) sort_lists(lists);
 }
 
 void NeighbourSearch::find(const std::vector<Vec3>& x, NeighbourLists& lists) {
@@ -195,26 +198,33 @@ void NeighbourSearch::find(const std::vector<Vec3>& x, NeighbourLists& lists) {
       std::uint32_t buf[kBuf];
       Real buf_d2[kBuf];
       std::size_t c = 0;
-      grid_.for_each_within(xi, h_, [&](std::uint32_t j) {
-        const Vec3 d = xi - x[j];
-        const Real d2 = d.squaredNorm();
-        buf[c] = j;
-        buf_d2[c] = d2;
-        c += static_cast<std::size_t>((d2 < h2) & (j != i));
-        if (c == kBuf) {
-          for (std::size_t k = 0; k < c; ++k) emit(buf[k], buf_d2[k]);
-          c = 0;
-        }
+      for_each_image(xi, h_, [&](const Vec3& shift) {
+        const Vec3 q = xi + shift;
+        grid_.for_each_within(q, h_, [&](std::uint32_t j) {
+          const Vec3 d = q - x[j];
+          const Real d2 = d.squaredNorm();
+          buf[c] = j;
+          buf_d2[c] = d2;
+          c += static_cast<std::size_t>((d2 < h2) & (j != i));
+          if (c == kBuf) {
+            for (std::size_t k = 0; k < c; ++k) emit(buf[k], buf_d2[k]);
+            c = 0;
+          }
+        });
       });
       for (std::size_t k = 0; k < c; ++k) emit(buf[k], buf_d2[k]);
     });
+    if (periodicity_.any()) sort_lists(lists);
   } else {
     PointCloud cloud{x};
     KdTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
     tree.buildIndex();
     fill(n, lists, [&](std::size_t i, auto&& emit) {
-      ForwardingResultSet<std::remove_reference_t<decltype(emit)>> rs{h2, static_cast<std::uint32_t>(i), emit};
-      tree.findNeighbors(rs, x[i].data(), nanoflann::SearchParams(32, 0, false));
+      for_each_image(x[i], h_, [&](const Vec3& shift) {
+        const Vec3 q = x[i] + shift;
+        ForwardingResultSet<std::remove_reference_t<decltype(emit)>> rs{h2, static_cast<std::uint32_t>(i), emit};
+        tree.findNeighbors(rs, q.data(), nanoflann::SearchParams(32, 0, false));
+      });
     });
     sort_lists(lists);
   }

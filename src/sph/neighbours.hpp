@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "core/types.hpp"
+#include "geometry/periodic.hpp"
 
 namespace bakesim::sph {
 
@@ -86,6 +87,13 @@ class NeighbourSearch {
   void find(const std::vector<Vec3>& x, const std::vector<Real>& support, NeighbourLists& lists);
   const CellGrid& grid() const { return grid_; }
   Real support() const { return h_; }
+  // Along periodic axes, pairs are also found across the box faces (their
+  // distance is the nearest image's). Positions must lie inside the box.
+  void set_periodicity(const Periodicity& periodicity) { periodicity_ = periodicity; }
+  // Calls fn(shift) for the zero shift and each whole-box shift that brings
+  // an image of p within `radius` of the box: the queries to make at p + shift.
+  template <class Fn>
+  void for_each_image(const Vec3& p, Real radius, Fn&& fn) const;
 
  private:
   template <class Query>
@@ -94,7 +102,34 @@ class NeighbourSearch {
   NeighbourMethod method_;
   Real h_;
   CellGrid grid_;
+  Periodicity periodicity_;
 };
+
+template <class Fn>
+void NeighbourSearch::for_each_image(const Vec3& p, Real radius, Fn&& fn) const {
+  fn(Vec3::Zero().eval());
+  if (!periodicity_.any()) return;
+  // Per axis: 0, or the one shift (±L) whose image lies within radius.
+  Real shift[3] = {0, 0, 0};
+  for (int k = 0; k < 3; ++k) {
+    if (!periodicity_.along(k)) continue;
+    const Real length = periodicity_.box.max[k] - periodicity_.box.min[k];
+    if (p[k] - periodicity_.box.min[k] < radius)
+      shift[k] = length;
+    else if (periodicity_.box.max[k] - p[k] < radius)
+      shift[k] = -length;
+  }
+  for (int mask = 1; mask < 8; ++mask) {
+    Vec3 s = Vec3::Zero();
+    bool valid = true;
+    for (int k = 0; k < 3 && valid; ++k)
+      if (mask & (1 << k)) {
+        valid = shift[k] != 0;
+        s[k] = shift[k];
+      }
+    if (valid) fn(s);
+  }
+}
 
 // Reference O(N²) search, for tests.
 NeighbourLists brute_force_neighbours(const std::vector<Vec3>& x, Real support);

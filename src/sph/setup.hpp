@@ -35,6 +35,14 @@ struct Material {
   // current one: baked dough stays set when it cools.
   IrreversibleSetting set;  // when the curves start to follow the peak temperature (physics/setting.hpp)
   PoreWater moisture;       // water, vapour and latent heat (physics/water.hpp); off unless moisture.moisture > 0
+  // A yield-stress fluid (physics/rheology.hpp): the consistency K is
+  // `viscosity`; μ follows each particle's shear rate. Absent: Newtonian.
+  struct YieldFlow {
+    TemperatureCurve yield_stress = ConstantCurve{0.0};  // τ_y, Pa (shear)
+    Real flow_index = 1.0;                               // n
+    Real regularisation = 1e-3;                          // γ̇_r, 1/s
+  };
+  std::optional<YieldFlow> yield_flow;
 };
 
 enum class BubbleDistribution { uniform, centred, layered, region };

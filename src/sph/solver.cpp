@@ -14,6 +14,7 @@
 #include "physics/bubbles.hpp"
 #include "physics/heat.hpp"
 #include "physics/maxwell.hpp"
+#include "physics/rheology.hpp"
 
 namespace bakesim::sph {
 namespace {
@@ -66,7 +67,10 @@ SphSolver::SphSolver(Setup setup)
       contact_distance_(0.5 * setup_.settings.spacing),
       kernel_(h_),
       lattice_sum_(lattice_kernel_sum(kernel_, setup_.settings.spacing)),
-      visc_lap_(h_),
+      visc_lap_(h_, viscosity_lattice_calibration(kernel_, setup_.settings.spacing, lattice_sum_)),
+      wall_viscosity_(h_, setup_.settings.spacing, lattice_sum_, [this](Real r, Real) { return visc_lap_(r); }),
+      wall_gradient_(h_, setup_.settings.spacing, lattice_sum_,
+                     [this](Real r, Real z) { return -kernel_.dw_dr(r) * z / r; }),
       wall_share_(kernel_, setup_.settings.spacing, lattice_sum_),
       search_(setup_.settings.search, setup_.domain, h_),
       x_(particles_.add_vector("position", "m")),
@@ -117,13 +121,24 @@ SphSolver::SphSolver(Setup setup)
   if (s.viscosity_solver == ViscositySolver::automatic) {
     const Real hs = 0.5 * h_;
     Real nu = 0;
-    for (const Material& m : setup_.materials) nu = std::max(nu, curve_max(m.viscosity) / m.rest_density);
+    for (const Material& m : setup_.materials) {
+      Real mu = curve_max(m.viscosity);
+      if (m.yield_flow)  // a yield-stress fluid is most viscous at rest
+        mu = HerschelBulkley{curve_max(m.yield_flow->yield_stress), mu, m.yield_flow->flow_index,
+                             m.yield_flow->regularisation}
+                 .viscosity_at_rest();
+      nu = std::max(nu, mu / m.rest_density);
+    }
     implicit_viscosity_ = nu > 0 && s.viscous_factor * hs * hs / nu < s.cfl * hs / s.speed_of_sound;
   }
   // Domain walls come first, then analytic colliders; meshes are separate.
-  walls_.push_back(
-      Collider{"domain", InsideBoxCollider{setup_.domain}, setup_.domain_contact, RigidMotion{}, std::nullopt});
+  periodicity_ = setup_.periodicity();
+  periodic_ = periodicity_.any();
+  search_.set_periodicity(periodicity_);
+  walls_.push_back(Collider{"domain", InsideBoxCollider{setup_.domain, setup_.periodic}, setup_.domain_contact,
+                            RigidMotion{}, std::nullopt});
   for (const Collider& c : setup_.colliders) (is_mesh(c) ? meshes_ : walls_).push_back(c);
+  for (const Collider& c : walls_) no_slip_walls_ |= c.contact.mode == ContactMode::sticky;
 
   t_kick_ = timers_.add("kick");
   t_drift_ = timers_.add("drift");
@@ -325,9 +340,19 @@ Mat3 SphSolver::velocity_gradient(std::size_t i) const {
   const float* pd = pair_dwr_.data() + i * lists_.stride();
   for (std::uint32_t k = 0; k < count; ++k) {
     const std::uint32_t j = nb[k];
-    const Vec3 gw = Real(pd[k]) * (x_[i] - x_[j]);
+    const Vec3 gw = Real(pd[k]) * pair_offset(i, j);
     grad += (m_[j] / rho_[j]) * (v_[j] - v_[i]) * gw.transpose();
   }
+  // No-slip walls: their ghosts' share (WallGhostSum), so a particle beside
+  // the wall sees the whole shear and not half of it.
+  if (no_slip_walls_)
+    for (std::size_t c = 0; c < walls_.size(); ++c) {
+      if (walls_[c].contact.mode != ContactMode::sticky) continue;
+      for_each_wall_of(c, x_[i], smoothing_[i], [&](const WallContact& w, const Vec3& wall_velocity) {
+        const Real scale = h_ / smoothing_[i];  // S scales as 1/h with h (adaptive smoothing)
+        grad += (wall_gradient_(w.distance * scale) * scale) * (v_[i] - wall_velocity) * w.normal.transpose();
+      });
+    }
   return grad;
 }
 
@@ -449,12 +474,16 @@ std::vector<Real> SphSolver::sample(const Vec3& x, const std::vector<std::string
   std::vector<Real> sum(qs.size(), 0.0);
   Real wsum = 0.0;
   const Real h2 = h_ * h_;
-  search_.grid().for_each_within(x, h_, [&](std::uint32_t j) {
-    const Real r2 = (x_[j] - x).squaredNorm();
-    if (r2 >= h2) return;
-    const Real w = m_[j] / rho_[j] * kernel_.w(std::sqrt(r2));
-    wsum += w;
-    for (std::size_t q = 0; q < qs.size(); ++q) sum[q] += w * qs[q](j);
+  const Vec3 at = periodic_ ? periodicity_.wrap(x) : x;
+  search_.for_each_image(at, h_, [&](const Vec3& shift) {
+    const Vec3 q = at + shift;
+    search_.grid().for_each_within(q, h_, [&](std::uint32_t j) {
+      const Real r2 = (x_[j] - q).squaredNorm();
+      if (r2 >= h2) return;
+      const Real w = m_[j] / rho_[j] * kernel_.w(std::sqrt(r2));
+      wsum += w;
+      for (std::size_t k = 0; k < qs.size(); ++k) sum[k] += w * qs[k](j);
+    });
   });
   for (Real& s : sum) s = wsum > 1e-12 ? s / wsum : std::numeric_limits<Real>::quiet_NaN();
   return sum;

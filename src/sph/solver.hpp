@@ -93,6 +93,7 @@ class SphSolver final : public Solver {
   void phase_stress(Real dt);
   void phase_pressure();
   void phase_forces();
+  void compute_wall_drag();
   void phase_kick(Real dt);
   void phase_drift(Real dt);
   void phase_collide();
@@ -102,6 +103,7 @@ class SphSolver final : public Solver {
   void phase_browning(Real dt);
   void phase_water(Real dt);
   void phase_properties();
+  void apparent_viscosity(int material);
   void phase_smoothing();
   void assign_bubbles();
   void check_finite();
@@ -114,6 +116,11 @@ class SphSolver final : public Solver {
   // Calls fn(contact, wall velocity) for each face of analytic collider c
   // within `range` of x, in world coordinates: a moving collider is queried
   // in its rest pose. Static colliders skip the transform (and report zero velocity).
+  // x_i − x_j, the nearest image's along periodic axes.
+  Vec3 pair_offset(std::size_t i, std::size_t j) const {
+    const Vec3 d = x_[i] - x_[j];
+    return periodic_ ? periodicity_.nearest_image(d) : d;
+  }
   template <class Fn>
   void for_each_wall_of(std::size_t c, const Vec3& x, Real range, Fn&& fn) const {
     const Collider& collider = walls_[c];
@@ -131,8 +138,10 @@ class SphSolver final : public Solver {
   Real h_;
   Real contact_distance_;
   CubicSpline kernel_;
-  Real lattice_sum_;  // Σ W over the sampling lattice (mass calibration, wall share)
-  ViscosityLaplacian visc_lap_;
+  Real lattice_sum_;             // Σ W over the sampling lattice (mass calibration, wall share)
+  ViscosityLaplacian visc_lap_;  // Eq 3.8, calibrated on the lattice (viscosity_lattice_calibration)
+  WallGhostSum wall_viscosity_;  // no-slip walls: their share of Eq 3.19 (kernels.hpp)
+  WallGhostSum wall_gradient_;   // and of the velocity gradient, Eq 3.27
   WallKernelShare wall_share_;
   NeighbourSearch search_;
   NeighbourLists lists_;
@@ -148,6 +157,9 @@ class SphSolver final : public Solver {
   bool heated_colliders_ = false;  // some collider carries a temperature
   bool follows_peak_ = false;      // some material reads its curves at the peak temperature
   bool adaptive_ = false;          // per-particle smoothing length (Eq 3.54–3.56)
+  bool no_slip_walls_ = false;     // some analytic collider is sticky: walls add viscous stress
+  Periodicity periodicity_;        // periodic axes of the domain (geometry/periodic.hpp)
+  bool periodic_ = false;          // some axis is periodic
   Real colour_share_ = 1;          // V |∇C| / s² on a flat lattice face (kernels.hpp): exchange areas
   ColliderTemperatures wall_temperatures_, mesh_temperatures_;  // at this step's bake time (heat phase)
   int viscosity_iterations_ = 0;
@@ -206,9 +218,13 @@ class SphSolver final : public Solver {
   std::vector<Vec3> colour_grad_;        // Σ V_j ∇W_ij (points into the fluid), surface phase
   std::vector<Mat3> stress_rho2_;        // S/ρ², per particle (pressure phase)
   std::vector<Mat3> artificial_stress_;  // R_i of Monaghan (2000), per particle (forces phase)
-  std::vector<double> pair_visc_;        // implicit viscosity weights, layout of lists_
-  std::vector<Vec3> viscosity_rhs_;      // M v* of the implicit viscosity solve
-  PcgScratch<Vec3> viscosity_pcg_;       // its conjugate-gradient vectors
+  // No-slip walls, per particle (forces phase, read by the viscosity phase):
+  // Σ S(d) over the sticky walls within h, and Σ S(d) v_wall (wall_viscosity_).
+  std::vector<Real> wall_drag_;
+  std::vector<Vec3> wall_drag_velocity_;
+  std::vector<double> pair_visc_;    // implicit viscosity weights, layout of lists_
+  std::vector<Vec3> viscosity_rhs_;  // M v* of the implicit viscosity solve
+  PcgScratch<Vec3> viscosity_pcg_;   // its conjugate-gradient vectors
   // Per neighbour pair, in the layout of lists_ (computed by the density
   // phase, valid until positions change): W(r) and W'(r)/r.
   std::vector<float> pair_w_, pair_dwr_;

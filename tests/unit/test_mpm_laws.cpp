@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "mpm/constitutive.hpp"
+#include "physics/rheology.hpp"
 
 using namespace bakesim;
 using namespace bakesim::mpm;
@@ -165,7 +166,7 @@ TEST(MpmLaws, ViscoplasticVonMisesShearsAsABinghamFluidOfViscosityHalfEta) {
   // shear yield stress is τ_y/√3 (q = √3 τ_xy) and whose plastic (shear)
   // viscosity is η/2, as docs/physics.md states. Small elastic strains (τ/2μ ≈ 0.5%).
   const Lame lame = Lame::from_young(2.6e4, 0.3);  // μ = 1e4 Pa
-  const Real eta = 50, rate = 2, dt = 1e-4;         // relaxation time η/2μ = 25 steps
+  const Real eta = 50, rate = 2, dt = 1e-4;        // relaxation time η/2μ = 25 steps
   const Real viscous = steady_shear_stress(VonMises{0.0, eta}, lame, rate, dt, 3000);
   EXPECT_NEAR(viscous, 0.5 * eta * rate, 0.01 * 0.5 * eta * rate);
   const Real yield = 100;
@@ -175,4 +176,18 @@ TEST(MpmLaws, ViscoplasticVonMisesShearsAsABinghamFluidOfViscosityHalfEta) {
   // Twice the rate: the stress above yield doubles (linear in γ̇, no other rate dependence).
   const Real faster = steady_shear_stress(VonMises{yield, eta}, lame, 2 * rate, dt, 3000);
   EXPECT_NEAR(faster - yield / std::sqrt(3.0), 2 * (bingham - yield / std::sqrt(3.0)), 0.02 * eta * rate);
+}
+
+// Issue 26, one law for both solvers: a Bingham fluid given as the shared
+// Herschel–Bulkley law (physics/rheology.hpp) and turned into MPM's von Mises
+// parameters by von_mises_equivalent shears in the MPM return exactly as the
+// law says, τ = τ_y + K γ̇, at two rates.
+TEST(MpmLaws, VonMisesEquivalentOfTheSharedBinghamLawShearsAsTheLaw) {
+  const Lame lame = Lame::from_young(2.6e4, 0.3);
+  const HerschelBulkley bingham{60.0, 20.0, 1.0};
+  const VonMisesEquivalent vm = von_mises_equivalent(bingham);
+  for (const Real rate : {1.0, 3.0}) {
+    const Real tau = steady_shear_stress(VonMises{vm.uniaxial_yield_stress, vm.viscosity}, lame, rate, 1e-4, 4000);
+    EXPECT_NEAR(tau, bingham.shear_stress(rate), 0.01 * bingham.shear_stress(rate)) << "at rate " << rate;
+  }
 }

@@ -132,3 +132,48 @@ TEST(ParticleSet, PermuteReordersEveryAttribute) {
   EXPECT_EQ(id[2], 0);
   EXPECT_THROW(ps.add_scalar("a", ""), Error);
 }
+
+// Periodic axes: pairs across the faces are found, at their nearest-image
+// distance, exactly as brute force over the images finds them.
+TEST(NeighbourSearch, PeriodicAxesFindPairsAcrossTheFacesAtTheirImageDistance) {
+  const Aabb box{Vec3(0, 0, 0), Vec3(1.0, 0.6, 0.8)};
+  const Real h = 0.12;
+  const Periodicity periodic{box, {true, false, true}};
+  const auto x = random_points(1500, box, 7);
+  for (NeighbourMethod method : {NeighbourMethod::grid, NeighbourMethod::kdtree}) {
+    NeighbourSearch search(method, box, h);
+    search.set_periodicity(periodic);
+    std::vector<Vec3> sorted;
+    const NeighbourLists lists = sort_and_find(search, x, sorted);
+    std::size_t across = 0;
+    for (std::size_t i = 0; i < sorted.size(); ++i) {
+      std::vector<std::pair<std::uint32_t, float>> expected;
+      for (std::size_t j = 0; j < sorted.size(); ++j) {
+        const Real r = periodic.nearest_image(sorted[i] - sorted[j]).norm();
+        if (j != i && r < h) expected.emplace_back(std::uint32_t(j), float(r));
+      }
+      ASSERT_EQ(lists.count(i), expected.size()) << to_string(method) << ", particle " << i;
+      for (std::uint32_t k = 0; k < lists.count(i); ++k) {
+        ASSERT_EQ(lists.begin(i)[k], expected[k].first) << "lists are in ascending index order";
+        EXPECT_NEAR(lists.distances(i)[k], expected[k].second, 1e-6);
+        across += (sorted[i] - sorted[expected[k].first]).norm() >= h;
+      }
+    }
+    EXPECT_GT(across, 100u) << "the test set has pairs across the faces";
+  }
+}
+
+TEST(Periodicity, WrapsIntoTheBoxAndPicksTheNearestImage) {
+  const Periodicity p{Aabb{Vec3(-1, 0, 0), Vec3(1, 2, 3)}, {true, false, true}};
+  const Vec3 w = p.wrap(Vec3(1.25, 5.0, -0.5));
+  EXPECT_NEAR(w.x(), -0.75, 1e-12);
+  EXPECT_EQ(w.y(), 5.0);  // not periodic: left alone
+  EXPECT_NEAR(w.z(), 2.5, 1e-12);
+  EXPECT_EQ(p.wrap(Vec3(1.0, 0, 3.0)), Vec3(-1.0, 0, 0));  // the max face is the min face
+  EXPECT_EQ(p.wrap(Vec3(-1e-18, 0, -1e-18)).z(), 0.0);     // never lands on max by rounding
+  const Vec3 d = p.nearest_image(Vec3(1.8, 1.9, -2.9));
+  EXPECT_NEAR(d.x(), -0.2, 1e-12);
+  EXPECT_EQ(d.y(), 1.9);
+  EXPECT_NEAR(d.z(), 0.1, 1e-12);
+  EXPECT_EQ(p.describe(), "x, z");
+}

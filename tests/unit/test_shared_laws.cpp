@@ -20,6 +20,7 @@
 #include "mpm/grid.hpp"
 #include "physics/heat.hpp"
 #include "physics/oven.hpp"
+#include "physics/rheology.hpp"
 #include "sph/forces/artificial_stress.hpp"
 #include "sph/forces/artificial_viscosity.hpp"
 #include "sph/forces/maxwell.hpp"
@@ -272,9 +273,9 @@ TEST(BakeStatistics, CoreIsTheColdestCrustIsAreaWeightedAndMoistureIsMeasuredFro
   const BakeStatistics stats(ps, 2);
   EXPECT_TRUE(stats.has_water());
   EXPECT_FALSE(stats.has_co2());
-  EXPECT_EQ(stats.columns("loaf"), (std::vector<std::string>{"core_temperature:loaf", "crust_temperature:loaf",
-                                                             "water:loaf", "moisture_loss_percent:loaf",
-                                                             "weight_loss_percent:loaf"}));
+  EXPECT_EQ(stats.columns("loaf"),
+            (std::vector<std::string>{"core_temperature:loaf", "crust_temperature:loaf", "water:loaf",
+                                      "moisture_loss_percent:loaf", "weight_loss_percent:loaf"}));
   water[2] = 0.5e-3;  // the crust dries: 1.5 g of the loaf's 4 g gone
   const std::vector<BodyBake> b = stats.compute(ps);
   EXPECT_EQ(b[0].core_temperature, 30.0);
@@ -341,4 +342,32 @@ TEST(PairConduction, FlowsFromHotToColdAndIsAntisymmetric) {
   EXPECT_DOUBLE_EQ(into_hot, -into_cold);
   EXPECT_NEAR(into_hot, 1e-6 * 1.0 * 160.0 * (dwr * r * r) / (r * r + eta2), 1e-15);
   EXPECT_EQ(pair_conduction(1e-6, 0.5, 0.5, 50.0, 50.0, dwr, r, eta2), 0.0);
+}
+
+// The Herschel–Bulkley law (physics/rheology.hpp): its apparent viscosity is
+// τ/γ̇ of the law well above γ̇_r, finite at rest (τ_y/γ̇_r + K γ̇_r^{n−1}),
+// and never increasing with the shear rate for n ≤ 1.
+TEST(Rheology, HerschelBulkleyApparentViscosityIsTheLawAboveTheRegularisationRate) {
+  const HerschelBulkley law{50.0, 8.0, 0.5, 1e-3};
+  for (const Real rate : {0.1, 1.0, 10.0, 100.0}) {
+    const Real exact = (50.0 + 8.0 * std::sqrt(rate)) / rate;
+    EXPECT_NEAR(law.apparent_viscosity(rate), exact, 1e-9 * exact) << "at " << rate;
+    EXPECT_NEAR(law.shear_stress(rate), 50.0 + 8.0 * std::sqrt(rate), 1e-12);
+  }
+  EXPECT_NEAR(law.viscosity_at_rest(), 50.0 / 1e-3 + 8.0 * std::pow(1e-3, -0.5), 1e-6);
+  // At γ̇ = γ̇_r the yield part is τ_y (1 − 1/e)/γ̇_r.
+  EXPECT_NEAR(law.apparent_viscosity(1e-3), 50.0 * (1 - std::exp(-1.0)) / 1e-3 + 8.0 * std::pow(1e-3, -0.5), 1e-6);
+  Real previous = law.apparent_viscosity(0);
+  for (Real rate = 1e-6; rate < 1e3; rate *= 1.5) {
+    const Real mu = law.apparent_viscosity(rate);
+    EXPECT_LE(mu, previous * (1 + 1e-12)) << "at " << rate;
+    previous = mu;
+  }
+  // Newtonian and Bingham limits.
+  const HerschelBulkley newtonian{0.0, 2.0, 1.0}, bingham{10.0, 2.0, 1.0, 1e-4};
+  EXPECT_DOUBLE_EQ(newtonian.apparent_viscosity(5.0), 2.0);
+  EXPECT_NEAR(bingham.apparent_viscosity(5.0), 2.0 + 10.0 / 5.0, 1e-9);
+  const VonMisesEquivalent vm = von_mises_equivalent(HerschelBulkley{10.0, 2.0, 1.0});
+  EXPECT_NEAR(vm.uniaxial_yield_stress, 10.0 * std::sqrt(3.0), 1e-12);
+  EXPECT_DOUBLE_EQ(vm.viscosity, 4.0);
 }

@@ -9,10 +9,18 @@ namespace bakesim::sph {
 // default v_new = β_c v_tangent − α_c v_normal with β_c = 1 − friction and
 // α_c = 1 − damping, on the velocity relative to a moving collider. Analytic
 // walls push the particle back to the contact distance; meshes revert it to
-// its previous position (thesis 3.1.9).
+// its previous position (thesis 3.1.9). Along periodic axes a particle
+// that left the box comes back through the opposite face.
 void SphSolver::phase_collide() {
   ScopedPhase t(timers_, t_collide_);
   const Real rc = contact_distance_;
+  // In contact means closer than the contact distance by more than 1%: a
+  // lattice layer laid s/2 from a wall, and pressure noise around it, are
+  // not. A sticky wall stops what touches it; the flow beside it is held by
+  // the wall's viscous stress (compute_wall_drag), so stopping every particle
+  // that round-off or noise brought a hair inside would pin whole layers at a
+  // rate set by the time step.
+  const Real reach = 0.99 * rc;
   parallel_for(
       x_.size(),
       [&](std::size_t i) {
@@ -20,7 +28,7 @@ void SphSolver::phase_collide() {
         Vec3& vi = v_[i];
         for (std::size_t c = 0; c < walls_.size(); ++c) {
           const ContactLaw& law = walls_[c].contact;
-          for_each_wall_of(c, xi, rc, [&](const WallContact& w, const Vec3& wall_velocity) {
+          for_each_wall_of(c, xi, reach, [&](const WallContact& w, const Vec3& wall_velocity) {
             xi += (rc - w.distance) * w.normal;
             if (!walls_[c].motion.moves()) return apply_contact(vi, w.normal, law);
             Vec3 relative = vi - wall_velocity;
@@ -44,6 +52,7 @@ void SphSolver::phase_collide() {
             apply_contact(vi, n, c.contact);
           }
         }
+        if (periodic_) xi = periodicity_.wrap(xi);  // out through one periodic face, in through the other
       },
       1024);
 }

@@ -17,6 +17,27 @@
 
 namespace bakesim::sph {
 
+// Per particle, the viscous pull of the sticky analytic colliders within h:
+// Σ G(d) and Σ G(d) v_wall (the wall's velocity where the particle is).
+void SphSolver::compute_wall_drag() {
+  wall_drag_.assign(x_.size(), 0.0);
+  wall_drag_velocity_.assign(x_.size(), Vec3::Zero());
+  parallel_for(
+      x_.size(),
+      [&](std::size_t i) {
+        for (std::size_t c = 0; c < walls_.size(); ++c) {
+          if (walls_[c].contact.mode != ContactMode::sticky) continue;
+          for_each_wall_of(c, x_[i], smoothing_[i], [&](const WallContact& w, const Vec3& wall_velocity) {
+            const Real g =
+                wall_viscosity_(w.distance * h_ / smoothing_[i]) * (h_ / smoothing_[i]) * (h_ / smoothing_[i]);
+            wall_drag_[i] += g;
+            wall_drag_velocity_[i] += g * wall_velocity;
+          });
+        }
+      },
+      1024);
+}
+
 void SphSolver::phase_forces() {
   ScopedPhase t(timers_, t_forces_);
   const Settings& s = setup_.settings;
@@ -38,11 +59,15 @@ void SphSolver::phase_forces() {
   const Real* p_rho2 = p_over_rho2_.data();
   const Real* vol = volume_.data();
   const bool explicit_visc = !implicit_viscosity_;
+  const bool no_slip = no_slip_walls_;
+  if (no_slip) compute_wall_drag();
   const bool elastic = elastic_;
   const Mat3* s_rho2 = elastic ? stress_rho2_.data() : nullptr;
   const Real visc_c = visc_lap_.coefficient();  // Eq 3.8 (all listed pairs have r < h)
   const Real* hsup = smoothing_.data();
   const bool adaptive = adaptive_;
+  const bool periodic = periodic_;
+  const Periodicity& periodicity = periodicity_;
   // Monaghan (2000) artificial stress: R_i = Q diag(−ε max(σ'_a, 0)/ρ_i²) Qᵀ
   // from the principal stresses σ'_a of the total stress S − p I.
   const bool art_stress = elastic && s.artificial_stress > 0.0;
@@ -79,7 +104,7 @@ void SphSolver::phase_forces() {
     for (std::uint32_t k = 0; k < count; ++k) {
       const std::uint32_t j = nb[k];
       const Real r = pr[k];
-      const Vec3 xij = xi - x[j];
+      const Vec3 xij = periodic ? periodicity.nearest_image(xi - x[j]) : Vec3(xi - x[j]);
       const Vec3 grad = Real(pd[k]) * xij;  // zero for coincident particles
       // Eq 3.56: the pair's support (the global h unless adaptive).
       const Real hij = adaptive ? 0.5 * (hi + hsup[j]) : h;
@@ -88,7 +113,7 @@ void SphSolver::phase_forces() {
       // Eq 3.19: pairwise-averaged viscosity with the viscosity-kernel Laplacian.
       const Vec3 vij = vi - v[j];
       if (explicit_visc) {
-        const Real vc = adaptive ? ViscosityLaplacian::coefficient_for(hij) : visc_c;
+        const Real vc = adaptive ? visc_lap_.coefficient_for(hij) : visc_c;
         acc_v -= forces::viscosity_weight(mui, mu[j], vol[j], vc, hij, r) * vij;
       }
       // Divergence of the viscoelastic stress (Eq 2.18 in SPH form):
@@ -110,6 +135,8 @@ void SphSolver::phase_forces() {
       // Eq 3.29: colour field Laplacian (the gradient, Eq 3.28, comes from the surface phase).
       if (any_tension) lap_c += vol[j] * (adaptive ? CubicSpline(hij).laplacian(r) : kernel_.laplacian(r));
     }
+    // No-slip walls: Eq 3.19 continued through the wall (WallViscosityShare).
+    if (explicit_visc && no_slip) acc_v -= mui * (wall_drag_[i] * vi - wall_drag_velocity_[i]);
     Vec3 acc = acc_p + acc_v / rhoi + acc_av + acc_s + g;
     if (any_tension) {
       const Real sigma = setup_.materials[material_[i]].surface_tension;

@@ -7,6 +7,7 @@
 
 #include "core/parallel.hpp"
 #include "physics/constants.hpp"
+#include "physics/rheology.hpp"
 
 namespace bakesim::sph {
 
@@ -48,6 +49,7 @@ void SphSolver::phase_properties() {
     follow(id, mat.xsph, eps_, 0.0, 1.0);
     follow(id, mat.elasticity, elasticity_, 0.0, inf);
     follow(id, mat.relaxation_time, relaxation_, 1e-9, inf);  // λ > 0 (Eq 3.20 divides by it)
+    if (mat.yield_flow) apparent_viscosity(id);
   }
   // Bubbles start rising once heating begins; a bubble stops when it has
   // expanded max_expansion times, and every particle of the body switches to
@@ -69,6 +71,36 @@ void SphSolver::phase_properties() {
         }
       },
       4096);
+}
+
+// A yield-stress material's μ: the Herschel–Bulkley apparent viscosity
+// (physics/rheology.hpp) at the particle's shear rate γ̇ = √(2 D:D), D the
+// symmetric part of the velocity gradient (Eq 3.27) of the velocities just
+// solved; K and τ_y from the material's curves at the temperature its curves
+// read. The next step's forces and implicit solve use it (lagged viscosity).
+void SphSolver::apparent_viscosity(int id) {
+  const Material& mat = setup_.materials[std::size_t(id)];
+  const Material::YieldFlow& flow = *mat.yield_flow;
+  const IrreversibleSetting& set = mat.set;
+  const bool always = set.is_set(-kZeroCelsius), never = !set.ever();
+  std::visit(
+      [&](const auto& consistency, const auto& yield) {
+        parallel_for(
+            x_.size(),
+            [&](std::size_t i) {
+              if (material_[i] != id) return;
+              const Real at = always  ? peak_temperature_[i]
+                              : never ? temperature_[i]
+                                      : set.property_temperature(temperature_[i], peak_temperature_[i]);
+              const HerschelBulkley law{std::max(Real(0), yield(at)), std::max(Real(0), consistency(at)),
+                                        flow.flow_index, flow.regularisation};
+              const Mat3 l = velocity_gradient(i);
+              const Mat3 d = 0.5 * (l + l.transpose());
+              mu_[i] = law.apparent_viscosity(std::sqrt(2.0 * d.squaredNorm()));
+            },
+            1024);
+      },
+      mat.viscosity, flow.yield_stress);
 }
 
 // Eq 3.54–3.55: h_i = k_g (ρ_i/ρ_ref)^(−ε_g) h0 for the next step, with

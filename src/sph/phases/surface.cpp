@@ -32,7 +32,7 @@ void SphSolver::phase_surface() {
     const float* pd = pair_dwr_.data() + i * lists_.stride();
     for (std::uint32_t k = 0; k < count; ++k) {
       const std::uint32_t j = nb[k];
-      grad += (m_[j] / rho_[j] * Real(pd[k])) * (x_[i] - x_[j]);
+      grad += (m_[j] / rho_[j] * Real(pd[k])) * pair_offset(i, j);
     }
     colour_grad_[i] = grad;
   });
@@ -60,7 +60,7 @@ void SphSolver::phase_surface() {
           Scratch& sc = scratch.local();
           sc.points.clear();
           const std::uint32_t* nb = lists_.begin(i);
-          for (std::uint32_t k = 0; k < lists_.count(i); ++k) sc.points.push_back(x_[nb[k]]);
+          for (std::uint32_t k = 0; k < lists_.count(i); ++k) sc.points.push_back(x_[i] - pair_offset(i, nb[k]));
           surface_[i] = sc.hull.distance_to_boundary(x_[i], sc.points.data(), sc.points.size()) < threshold ? 1 : 0;
         },
         64);

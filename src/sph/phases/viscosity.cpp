@@ -8,7 +8,9 @@
 // matrix-free by conjugate gradients with a Jacobi preconditioner, the three
 // velocity components side by side (core/pcg.hpp, shared with the MPM
 // implicit heat). Rows of K sum to zero: momentum is conserved to the solver
-// tolerance.
+// tolerance. A no-slip wall adds dt μ_i V_i G(d) to its particles' diagonal
+// and the same times the wall's velocity to the right-hand side
+// (WallViscosityShare): still symmetric positive definite.
 #include <fmt/format.h>
 
 #include <cmath>
@@ -40,10 +42,11 @@ void SphSolver::phase_viscosity(Real dt) {
     for (std::uint32_t k = 0; k < count; ++k) {
       const std::uint32_t j = nb[k];
       const Real hij = adaptive_ ? 0.5 * (smoothing_[i] + smoothing_[j]) : h_;  // Eq 3.56
-      const Real vc = adaptive_ ? ViscosityLaplacian::coefficient_for(hij) : visc_c;
+      const Real vc = adaptive_ ? visc_lap_.coefficient_for(hij) : visc_c;
       w[k] = dt * 0.5 * (mu_[i] + mu_[j]) * vi * (m_[j] / rho_[j]) * vc * (hij - Real(pr[k]));
       d += w[k];
     }
+    if (no_slip_walls_) d += dt * mu_[i] * vi * wall_drag_[i];  // the wall's row entry (v_wall on the right)
     diag[i] = d;
   });
   auto apply = [&](const std::vector<Vec3>& in, std::vector<Vec3>& out) {
@@ -52,6 +55,7 @@ void SphSolver::phase_viscosity(Real dt) {
       const std::uint32_t count = lists_.count(i);
       const double* w = pair_visc_.data() + i * stride;
       Vec3 acc = m_[i] * in[i];
+      if (no_slip_walls_) acc += (dt * mu_[i] * (m_[i] / rho_[i]) * wall_drag_[i]) * in[i];
       for (std::uint32_t k = 0; k < count; ++k) acc += w[k] * (in[i] - in[nb[k]]);
       out[i] = acc;
     });
@@ -59,7 +63,12 @@ void SphSolver::phase_viscosity(Real dt) {
   // b = M v*; the solve starts from v* (r = −dt K v*).
   viscosity_rhs_.resize(n);
   parallel_for(
-      n, [&](std::size_t i) { viscosity_rhs_[i] = m_[i] * v_[i]; }, 4096);
+      n,
+      [&](std::size_t i) {
+        viscosity_rhs_[i] = m_[i] * v_[i];
+        if (no_slip_walls_) viscosity_rhs_[i] += dt * mu_[i] * (m_[i] / rho_[i]) * wall_drag_velocity_[i];
+      },
+      4096);
   // Residuals are measured against the momentum M v* plus the momentum one
   // step of gravity adds (m g dt per particle): a body nearly at rest then
   // does not demand a solve far below what its next step changes anyway.
