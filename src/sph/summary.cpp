@@ -13,6 +13,11 @@ std::string SphSolver::summary() const {
   out += fmt::format("viscosity  {} (setting: {})\n", implicit_viscosity() ? "implicit" : "explicit",
                      to_string(st.viscosity_solver));
   out += fmt::format("surface    {} test\n", to_string(st.surface_method));
+  if (periodic_) out += fmt::format("periodic   along {} (no walls on those faces)\n", periodicity_.describe());
+  for (const Material& m : setup_.materials)
+    if (m.yield_flow)
+      out += fmt::format("yield flow material {}: Herschel-Bulkley, n = {}, regularisation rate {} 1/s\n", m.name,
+                         m.yield_flow->flow_index, m.yield_flow->regularisation);
   out += fmt::format("particles  {} in total\n", particles_.size());
   for (std::size_t b = 0; b < setup_.bodies.size(); ++b) {
     const Body& body = setup_.bodies[b];
@@ -27,7 +32,8 @@ std::string SphSolver::summary() const {
   }
   out += fmt::format("colliders  {}\n", setup_.colliders.size());
   for (const Collider& c : setup_.colliders)
-    out += fmt::format("  '{}' friction {} damping {}{}\n", c.name, c.contact.friction, c.contact.damping,
+    out += fmt::format("  '{}' friction {} damping {}{}{}\n", c.name, c.contact.friction, c.contact.damping,
+                       c.contact.mode == ContactMode::sticky ? ", sticky (no-slip)" : "",
                        c.motion.moves() ? ", moving" : "");
   out += "time step  bounds at t = 0:\n";
   for (const auto& [name, value] : time_step_bounds()) out += fmt::format("  {:<10} {:.3e} s\n", name, value);

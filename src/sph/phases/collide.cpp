@@ -14,13 +14,13 @@ namespace bakesim::sph {
 void SphSolver::phase_collide() {
   ScopedPhase t(timers_, t_collide_);
   const Real rc = contact_distance_;
-  // In contact means closer than the contact distance by more than 1%: a
-  // lattice layer laid s/2 from a wall, and pressure noise around it, are
-  // not. A sticky wall stops what touches it; the flow beside it is held by
-  // the wall's viscous stress (compute_wall_drag), so stopping every particle
-  // that round-off or noise brought a hair inside would pin whole layers at a
-  // rate set by the time step.
-  const Real reach = 0.99 * rc;
+  // At a sticky wall, in contact means closer than the contact distance by
+  // more than 1%: a lattice layer laid s/2 from the wall, and the pressure
+  // noise around it, are not. A sticky wall stops what touches it; the flow
+  // beside it is held by the wall's viscous stress (compute_wall_drag), so
+  // stopping every particle that round-off or noise brought a hair inside
+  // would pin whole layers at a rate set by the time step.
+  const Real sticky_reach = 0.99 * rc;
   parallel_for(
       x_.size(),
       [&](std::size_t i) {
@@ -28,6 +28,7 @@ void SphSolver::phase_collide() {
         Vec3& vi = v_[i];
         for (std::size_t c = 0; c < walls_.size(); ++c) {
           const ContactLaw& law = walls_[c].contact;
+          const Real reach = law.mode == ContactMode::sticky ? sticky_reach : rc;
           for_each_wall_of(c, xi, reach, [&](const WallContact& w, const Vec3& wall_velocity) {
             xi += (rc - w.distance) * w.normal;
             if (!walls_[c].motion.moves()) return apply_contact(vi, w.normal, law);
