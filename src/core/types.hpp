@@ -8,6 +8,7 @@ namespace bakesim {
 using Real = double;
 using Vec3 = Eigen::Matrix<Real, 3, 1>;
 using Mat3 = Eigen::Matrix<Real, 3, 3>;
+using Vec4 = Eigen::Matrix<Real, 4, 1>;
 
 struct Aabb {
   Vec3 min = Vec3::Constant(0.0);

@@ -85,6 +85,32 @@ MpmSolver::MpmSolver(Setup setup)
   if (s.heat == HeatMethod::implicit) implicit_mass_.assign(nodes, 0);
   if (!setup_.colliders.empty()) near_collider_.assign(nodes, 0);
   blocks_.resize(nx_, ny_, nz_);
+  periodicity_ = setup_.periodicity();
+  if (periodicity_.any()) {
+    if (s.heat == HeatMethod::implicit)
+      throw InputError("domain.periodic",
+                       "MPM with periodic axes needs explicit heat (or none): set solver.mpm.heat to \"explicit\" or "
+                       "\"off\"");
+    for (int k = 0; k < 3; ++k) {
+      if (!periodicity_.along(k)) continue;
+      const Real cells = ext[k] * inv_dx_;
+      const int n = static_cast<int>(std::lround(cells));
+      if (std::abs(cells - n) > 1e-6 * std::max(1.0, cells) || n < 4)
+        throw InputError("domain.periodic",
+                         fmt::format("MPM: the domain is {:.6g} cells of {} m along the periodic axis {}; it must be a "
+                                     "whole number of cells, at least 4",
+                                     cells, dx_, char('x' + k)));
+      period_cells_[std::size_t(k)] = n;
+    }
+    image_node_.assign(nodes, 0);
+    parallel_for(nodes, [&](std::size_t node) {
+      const int g[3] = {int(node / (std::size_t(ny_) * nz_)), int((node / nz_) % ny_), int(node % nz_)};
+      for (int k = 0; k < 3; ++k)
+        if (period_cells_[std::size_t(k)] > 0 &&
+            (g[k] < kGuardCells || g[k] >= kGuardCells + period_cells_[std::size_t(k)]))
+          image_node_[node] = 1;
+    });
+  }
   t_sort_ = timers_.add("sort");
   t_p2g_ = timers_.add("p2g");
   t_grid_ = timers_.add("grid");
@@ -117,11 +143,11 @@ void MpmSolver::build_particles() {
                                           "shape larger or the cell smaller",
                                           body.name, s.particles_per_cell, dx_));
     // Every sampled point is kept: a body that does not fit is an error, never silently cut.
-    const auto outside = std::count_if(points[b].begin(), points[b].end(),
-                                       [&](const Vec3& p) { return !setup_.domain.contains(p); });
+    const auto outside =
+        std::count_if(points[b].begin(), points[b].end(), [&](const Vec3& p) { return !setup_.domain.contains(p); });
     if (outside > 0) {
-      const Vec3 p = *std::find_if(points[b].begin(), points[b].end(),
-                                   [&](const Vec3& q) { return !setup_.domain.contains(q); });
+      const Vec3 p =
+          *std::find_if(points[b].begin(), points[b].end(), [&](const Vec3& q) { return !setup_.domain.contains(q); });
       throw InputError(where, fmt::format("body '{}' reaches outside the domain: {} of its {} material points lie "
                                           "outside (one at [{:.4g}, {:.4g}, {:.4g}]); grow the domain or move the body",
                                           body.name, outside, points[b].size(), p.x(), p.y(), p.z()));
@@ -193,7 +219,7 @@ Real MpmSolver::total_mass() const {
 }
 
 Real MpmSolver::grid_mass() const {
-  return deterministic_sum(grid_.size(), [&](std::size_t k) { return grid_[k].mass; });
+  return deterministic_sum(grid_.size(), [&](std::size_t k) { return is_image_node(k) ? 0.0 : grid_[k].mass; });
 }
 
 // Spec 4.7: Δt ≤ CFL Δx / max|v|, Δt ≤ CFL Δx / c with c = sqrt((λ+2μ+ξ s₀)/ρ);

@@ -5,6 +5,7 @@
 // noted in docs/physics.md), explicit grid update, finite-strain
 // elastoplasticity on the particles, colliders on the grid.
 #include <array>
+#include <cstddef>
 #include <optional>
 #include <string>
 #include <vector>
@@ -12,9 +13,11 @@
 #include "core/particles.hpp"
 #include "core/pcg.hpp"
 #include "core/solver.hpp"
+#include "core/parallel.hpp"
 #include "core/timers.hpp"
 #include "geometry/colliders.hpp"
 #include "geometry/motion.hpp"
+#include "geometry/periodic.hpp"
 #include "mpm/grid.hpp"
 #include "mpm/setup.hpp"
 #include "physics/oven.hpp"
@@ -87,6 +90,17 @@ class MpmSolver final : public Solver {
   void g2p(Real dt);
   void push_out_of_colliders(std::size_t p);
   void push_inside_domain(std::size_t p);
+  void mirror_sticky_planes();
+  // Periodic axes (domain.periodic): the nodes of the guard layers beyond a
+  // periodic face are images of nodes inside (index G + ((g − G) mod N)).
+  // After P2G their sums are added to the node they image and copied back
+  // (so differences across the face see the whole), the grid update skips
+  // them, and its results are copied to them for G2P.
+  template <class T, class Add>
+  void fold_periodic(std::vector<T>& nodes, Add&& add);
+  template <class T>
+  void copy_periodic(std::vector<T>& nodes);
+  bool is_image_node(std::size_t k) const { return !image_node_.empty() && image_node_[k]; }
   std::array<Real, 2> flip_bounds_{};  // coldest, hottest temperature before the step (G2P)
 
   Setup setup_;
@@ -150,7 +164,11 @@ class MpmSolver final : public Solver {
   // G2P and the implicit solve (grid.hpp).
   std::vector<HeatSums> heat_sums_;
   std::vector<HeatState> heat_state_;
-  BlockOrder blocks_;  // particles by grid block, blocks coloured for race-free P2G
+  BlockOrder blocks_;                     // particles by grid block, blocks coloured for race-free P2G
+  Periodicity periodicity_;               // periodic axes of the domain (geometry/periodic.hpp)
+  std::array<int, 3> period_cells_{};     // cells per period along each periodic axis (0: not periodic)
+  std::vector<std::uint8_t> image_node_;  // per node: an image of a node inside (periodic axes only)
+  std::vector<Vec4> mirror_velocity_;     // grid phase scratch: flow velocity and 1, or 0 (mirror_sticky_planes)
   // Particle indices of each material, rebuilt when particle memory is
   // reordered: the constitutive phase dispatches once per material group.
   std::vector<std::vector<std::uint32_t>> material_members_;
@@ -174,5 +192,42 @@ class MpmSolver final : public Solver {
   bool moist_ = false;                           // a material carries moisture (physics/water.hpp)
   std::vector<Real> latent_step_, boiled_step_;  // per particle in one G2P: latent heat given up (J), water boiled (kg)
 };
+
+template <class T, class Add>
+inline void MpmSolver::fold_periodic(std::vector<T>& nodes, Add&& add) {
+  const int dims[3] = {nx_, ny_, nz_};
+  const std::size_t stride[3] = {std::size_t(ny_) * nz_, std::size_t(nz_), 1};
+  for (int axis = 0; axis < 3; ++axis) {
+    const int n = period_cells_[std::size_t(axis)];
+    if (n == 0) continue;
+    // Every node whose index along this axis lies in a guard layer goes to its image inside.
+    for (std::size_t k = 0; k < nodes.size(); ++k) {
+      const int g = int((k / stride[axis]) % std::size_t(dims[axis]));
+      if (g >= kGuardCells && g < kGuardCells + n) continue;
+      const int inside = kGuardCells + ((g - kGuardCells) % n + n) % n;
+      const std::ptrdiff_t shift = std::ptrdiff_t(inside - g) * std::ptrdiff_t(stride[axis]);
+      add(nodes[std::size_t(std::ptrdiff_t(k) + shift)], nodes[k]);
+      nodes[k] = T{};
+    }
+  }
+}
+
+template <class T>
+inline void MpmSolver::copy_periodic(std::vector<T>& nodes) {
+  const int dims[3] = {nx_, ny_, nz_};
+  const std::size_t stride[3] = {std::size_t(ny_) * nz_, std::size_t(nz_), 1};
+  // In the reverse order of the fold: corner images read edges already filled.
+  for (int axis = 2; axis >= 0; --axis) {
+    const int n = period_cells_[std::size_t(axis)];
+    if (n == 0) continue;
+    parallel_for(nodes.size(), [&](std::size_t k) {
+      const int g = int((k / stride[axis]) % std::size_t(dims[axis]));
+      if (g >= kGuardCells && g < kGuardCells + n) return;
+      const int inside = kGuardCells + ((g - kGuardCells) % n + n) % n;
+      const std::ptrdiff_t shift = std::ptrdiff_t(inside - g) * std::ptrdiff_t(stride[axis]);
+      nodes[k] = nodes[std::size_t(std::ptrdiff_t(k) + shift)];
+    });
+  }
+}
 
 }  // namespace bakesim::mpm

@@ -168,6 +168,10 @@ SphSolver::SphSolver(Setup setup)
   update_wall_poses(time_);
   seed_particles();
   refresh();
+  // Yield-stress materials start with the viscosity of their initial shear
+  // rate (at rest: τ_y/γ̇_r), not their consistency: a body at rest holds from the first step.
+  for (std::size_t mi = 0; mi < setup_.materials.size(); ++mi)
+    if (setup_.materials[mi].yield_flow) apparent_viscosity(int(mi));
   check_initial_overlaps();
 }
 

@@ -11,6 +11,7 @@
 #include "core/errors.hpp"
 #include "io/checkpoint.hpp"
 #include "io/materials.hpp"
+#include "mpm/solver.hpp"
 #include "physics/food_properties.hpp"
 #include "io/scene.hpp"
 #include "io/schema.hpp"
@@ -810,8 +811,8 @@ TEST(Scene, DeeplyNestedValuesAreRefusedBeforeTheyAreCopied) {
 }
 
 // Issue 26: domain.periodic names axes once; a periodic box shorter than two
-// supports would find a neighbour twice; MPM does not read the key (yet).
-TEST(Scene, PeriodicAxesAreCheckedAndReadBySphOnly) {
+// supports would find a neighbour twice; MPM needs whole cells along the axis.
+TEST(Scene, PeriodicAxesAreCheckedForEachSolver) {
   json ok = base_scene();
   ok["domain"]["periodic"] = {"x", "z"};
   const Scene s = parse_scene(ok.dump(), "scene.json", ".");
@@ -829,7 +830,23 @@ TEST(Scene, PeriodicAxesAreCheckedAndReadBySphOnly) {
   short_box["domain"]["max"] = {0.2, 0.035, 0.2};
   short_box["bodies"][0]["shape"]["max"] = {0.08, 0.03, 0.08};
   expect_error(short_box, {"domain.periodic", "periodic axis y", "two smoothing supports (0.04 m)"});
+  // MPM: a whole number of cells along the axis, and not with implicit heat.
   json mpm = mpm_scene();
   mpm["domain"]["periodic"] = {"x"};
-  expect_error(mpm, {"domain.periodic", "read only by the SPH solver"});
+  mpm["solver"]["mpm"]["heat"] = "explicit";
+  const Scene whole = parse_scene(mpm.dump(), "scene.json", ".");
+  EXPECT_NO_THROW(mpm::MpmSolver{whole.mpm});  // 0.2 m of 5 mm cells
+  mpm["domain"]["max"][0] = 0.1013;
+  const Scene part = parse_scene(mpm.dump(), "scene.json", ".");
+  try {
+    mpm::MpmSolver solver(part.mpm);
+    ADD_FAILURE() << "no error for 40.26 cells";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("40.26 cells of 0.005 m along the periodic axis x"), std::string::npos)
+        << e.what();
+  }
+  mpm["domain"]["max"][0] = 0.1;
+  mpm["solver"]["mpm"]["heat"] = "implicit";
+  const Scene implicit_heat = parse_scene(mpm.dump(), "scene.json", ".");
+  EXPECT_THROW(mpm::MpmSolver{implicit_heat.mpm}, InputError);
 }

@@ -16,6 +16,8 @@
 #include <vector>
 
 #include "helpers.hpp"
+#include "mpm/solver.hpp"
+#include "physics/rheology.hpp"
 
 using namespace bakesim;
 using nlohmann::json;
@@ -248,3 +250,74 @@ TEST(ShearWave, DecaysAtTheViscousRateInAFullyPeriodicBox) {
     EXPECT_NEAR(rate / exact, 1.0, 0.005);
   }
 }
+
+namespace {
+
+// The same Bingham channel in MPM, at a scale where its elastic wave allows
+// steps of ~0.2 ms: plates 0.1 m apart, periodic along x and z (4 cells), a
+// von Mises material whose steady shear is the shared Bingham law
+// (von_mises_equivalent: yield √3 τ_y, η = 2K).
+json mpm_bingham_channel(int across, double yield_stress, double consistency, double force, double length) {
+  const double dx = length / across, w = 4 * dx;
+  const HerschelBulkley law{yield_stress, consistency, 1.0};
+  const VonMisesEquivalent vm = von_mises_equivalent(law);
+  auto plate = [&](double y, double ny) {
+    return json{{"name", ny > 0 ? "bottom-plate" : "top-plate"},
+                {"shape", {{"type", "plane"}, {"point", {0, y, 0}}, {"normal", {0, ny, 0}}}},
+                {"contact", "sticky"}};
+  };
+  return {{"solver", {{"type", "mpm"}, {"mpm", {{"cell_size", dx}, {"heat", "off"}, {"model", "baseline"}}}}},
+          {"time", {{"end", 10.0}}},
+          {"gravity", {force, 0, 0}},
+          {"domain", {{"min", {0, -4 * dx, 0}}, {"max", {w, length + 4 * dx, w}}, {"periodic", {"x", "z"}}}},
+          {"materials",
+           {{"bingham",
+             {{"density", 1000.0},
+              {"youngs_modulus", 1e5},
+              {"poisson_ratio", 0.3},
+              {"plasticity",
+               {{"model", "von_mises"}, {"yield_stress", vm.uniaxial_yield_stress}, {"viscosity", vm.viscosity}}}}}}},
+          {"colliders", json::array({plate(0, 1), plate(length, -1)})},
+          {"bodies", json::array({{{"name", "fluid"},
+                                   {"material", "bingham"},
+                                   {"shape", {{"type", "box"}, {"min", {0, 0, 0}}, {"max", {w, length, w}}}}}})}};
+}
+
+}  // namespace
+
+// Issue 26: the Bingham channel in MPM, from rest (plug half the channel,
+// as the SPH case): it settles within a second; measured plug error +7.7% at
+// 10 cells across, +6.7% at 20, +3.4% at 40 (Newtonian, τ_y = 0: +1.4% at 20,
+// +0.8% at 40), first order in Δx (docs/validation.md). CI runs 20 across
+// against 8%; the issue's 5% holds from 40 across (a disabled case, 85 s).
+class MpmBinghamChannel : public ::testing::TestWithParam<std::tuple<int, double>> {};
+
+TEST_P(MpmBinghamChannel, PlugSettlesAndFollowsTheAnalyticProfile) {
+  const auto [across, tolerance] = GetParam();
+  const double length = 0.1, rho = 1000, force = 10, consistency = 50;
+  const double b = 0.5 * length, g = rho * force, yield_stress = g * 0.5 * b;
+  const double u_plug = bingham_channel(b, force, rho, consistency, yield_stress, length);
+  auto mpm = test_support::make_mpm(mpm_bingham_channel(across, yield_stress, consistency, force, length));
+  const std::size_t count = mpm->particles().size();
+  auto plug = [&] {
+    const auto profile = layer_profile(mpm->particles(), 0.5 * length / across, length);
+    return 0.5 * (profile[profile.size() / 2 - 1].second + profile[profile.size() / 2].second);
+  };
+  test_support::advance_to(*mpm, 1.0);
+  const double at_1 = plug();
+  test_support::advance_to(*mpm, 2.0);
+  const double at_2 = plug();
+  std::printf("MPM %d across: plug %.4e m/s at 1 s, %.4e at 2 s, analytic %.4e: error %+.2f%%\n", across, at_1, at_2,
+              u_plug, 100 * (at_2 / u_plug - 1));
+  EXPECT_NEAR(at_2 / at_1, 1.0, 0.01) << "settled";
+  EXPECT_EQ(mpm->particles().size(), count);
+  EXPECT_NEAR(at_2, u_plug, tolerance * u_plug);
+  for (const auto& [y, v] : layer_profile(mpm->particles(), 0.5 * length / across, length))
+    EXPECT_NEAR(v, bingham_channel(y, force, rho, consistency, yield_stress, length), tolerance * u_plug)
+        << "at y = " << y;
+}
+
+INSTANTIATE_TEST_SUITE_P(Cells, MpmBinghamChannel, ::testing::Values(std::make_tuple(20, 0.08)),
+                         [](const auto& info) { return std::to_string(std::get<0>(info.param)) + "_across"; });
+INSTANTIATE_TEST_SUITE_P(DISABLED_Fine, MpmBinghamChannel, ::testing::Values(std::make_tuple(40, 0.05)),
+                         [](const auto& info) { return std::to_string(std::get<0>(info.param)) + "_across"; });

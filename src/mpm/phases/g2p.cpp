@@ -168,7 +168,9 @@ void MpmSolver::push_out_of_colliders(std::size_t p) {
 // material rests on the domain floor instead of sinking into the guard layer.
 void MpmSolver::push_inside_domain(std::size_t p) {
   const Aabb& d = setup_.domain;
+  if (periodicity_.any()) x_[p] = periodicity_.wrap(x_[p]);  // out through one periodic face, in through the other
   for (int k = 0; k < 3; ++k) {
+    if (periodicity_.along(k)) continue;
     const Real lo = x_[p][k] - d.min[k], hi = d.max[k] - x_[p][k];
     if (lo >= 0 && hi >= 0) continue;
     const Vec3 n = lo < 0 ? Vec3(Vec3::Unit(k)) : Vec3(-Vec3::Unit(k));

@@ -102,6 +102,14 @@ void MpmSolver::phase_p2g(Real dt) {
   ScopedPhase t(timers_, t_p2g_);
   if (thermal()) {
     p2g<true>(dt);
+    if (periodicity_.any()) {
+      fold_periodic(heat_sums_, [](HeatSums& to, const HeatSums& from) {
+        to.heat_capacity += from.heat_capacity, to.energy += from.energy, to.heat_rate += from.heat_rate;
+        to.water += from.water, to.volume += from.volume, to.water_rate += from.water_rate;
+        to.vapour += from.vapour, to.vapour_rate += from.vapour_rate;
+      });
+      copy_periodic(heat_sums_);
+    }
     // What the boundary terms put in this step (spec 4.2, 4.3 bookkeeping).
     const Real dtb = setup_.oven.bake_step(dt);
     // (implicit heat books the energy its solve puts in)
@@ -112,6 +120,13 @@ void MpmSolver::phase_p2g(Real dt) {
     if (moist_) budget_.evaporated -= dtb * deterministic_sum(x_.size(), [&](std::size_t i) { return vapour_src_[i]; });
   } else {
     p2g<false>(dt);
+  }
+  if (periodicity_.any()) {
+    fold_periodic(grid_, [](GridNode& to, const GridNode& from) {
+      to.mass += from.mass;
+      for (int r = 0; r < 3; ++r) to.mv[r] += from.mv[r];
+    });
+    copy_periodic(grid_);
   }
 }
 
