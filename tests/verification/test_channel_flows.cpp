@@ -105,6 +105,12 @@ std::vector<std::pair<double, double>> layer_profile(const ParticleSet& ps, doub
   return out;
 }
 
+// The mean x-velocity of the two layers beside the mid-plane (a plug's speed).
+double centre_speed(const ParticleSet& ps, double spacing, double length) {
+  const auto profile = layer_profile(ps, spacing, length);
+  return 0.5 * (profile[profile.size() / 2 - 1].second + profile[profile.size() / 2].second);
+}
+
 // Mid-plane velocity: the mean of the two layers beside y = L/2, against the
 // series at their mean heights.
 struct MidPlane {
@@ -191,10 +197,7 @@ TEST(BinghamChannel, SphPlugVelocityAndProfileSettleWithinFivePercent) {
   const double u_plug = bingham_channel(b, c.force, rho, mu, c.yield_stress, c.length);
   c.regularisation = 0.01 * u_plug / (0.5 * b);  // the wall shear rate is about u_p / (b − y₀)
   auto sph = test_support::make_sph(sph_channel(c));
-  auto plug = [&] {
-    const auto profile = layer_profile(sph->particles(), c.length / c.across, c.length);
-    return 0.5 * (profile[profile.size() / 2 - 1].second + profile[profile.size() / 2].second);
-  };
+  auto plug = [&] { return centre_speed(sph->particles(), c.length / c.across, c.length); };
   test_support::advance_to(*sph, 10.0);
   const double at_10 = plug();
   test_support::advance_to(*sph, 20.0);
@@ -299,10 +302,7 @@ TEST_P(MpmBinghamChannel, PlugSettlesAndFollowsTheAnalyticProfile) {
   const double u_plug = bingham_channel(b, force, rho, consistency, yield_stress, length);
   auto mpm = test_support::make_mpm(mpm_bingham_channel(across, yield_stress, consistency, force, length));
   const std::size_t count = mpm->particles().size();
-  auto plug = [&] {
-    const auto profile = layer_profile(mpm->particles(), 0.5 * length / across, length);
-    return 0.5 * (profile[profile.size() / 2 - 1].second + profile[profile.size() / 2].second);
-  };
+  auto plug = [&] { return centre_speed(mpm->particles(), 0.5 * length / across, length); };
   test_support::advance_to(*mpm, 1.0);
   const double at_1 = plug();
   test_support::advance_to(*mpm, 2.0);
