@@ -2,6 +2,7 @@
 #include <fmt/format.h>
 
 #include "io/scene_parts.hpp"
+#include "mpm/solver.hpp"
 
 namespace bakesim::scene_parts {
 
@@ -161,6 +162,7 @@ mpm::Setup build_mpm_setup(const Ctx& c, const json& doc, const SceneParts& part
   for (std::size_t i = 0; i < doc["colliders"].size(); ++i)
     setup.colliders.push_back(build_grid_collider(c, doc["colliders"][i], i, st.cell_size, parts.world.oven));
   st.heat = heat_method(mj["heat"].get<std::string>(), setup);
+  if (const std::string problem = mpm::periodic_problem(setup); !problem.empty()) c.fail("domain.periodic", problem);
   return setup;
 }
 

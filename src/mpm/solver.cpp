@@ -14,6 +14,23 @@
 
 namespace bakesim::mpm {
 
+std::string periodic_problem(const Setup& setup) {
+  if (!setup.periodicity().any()) return {};
+  if (setup.settings.heat == HeatMethod::implicit)
+    return "MPM with periodic axes needs explicit heat (or none): set solver.mpm.heat to \"explicit\" or \"off\"";
+  const Real dx = setup.settings.cell_size;
+  for (int k = 0; k < 3; ++k) {
+    if (!setup.periodic[std::size_t(k)]) continue;
+    const Real cells = setup.domain.extent()[k] / dx;
+    if (std::abs(cells - std::round(cells)) > 1e-6 * std::max(Real(1), cells) || std::lround(cells) < 4)
+      return fmt::format(
+          "MPM: the domain is {:.6g} cells of {} m along the periodic axis {}; it must be a whole "
+          "number of cells, at least 4",
+          cells, dx, char('x' + k));
+  }
+  return {};
+}
+
 MpmSolver::MpmSolver(Setup setup)
     : setup_(std::move(setup)),
       x_(particles_.add_vector("position", "m")),
@@ -87,21 +104,10 @@ MpmSolver::MpmSolver(Setup setup)
   blocks_.resize(nx_, ny_, nz_);
   periodicity_ = setup_.periodicity();
   if (periodicity_.any()) {
-    if (s.heat == HeatMethod::implicit)
-      throw InputError("domain.periodic",
-                       "MPM with periodic axes needs explicit heat (or none): set solver.mpm.heat to \"explicit\" or "
-                       "\"off\"");
-    for (int k = 0; k < 3; ++k) {
-      if (!periodicity_.along(k)) continue;
-      const Real cells = ext[k] * inv_dx_;
-      const int n = static_cast<int>(std::lround(cells));
-      if (std::abs(cells - n) > 1e-6 * std::max(1.0, cells) || n < 4)
-        throw InputError("domain.periodic",
-                         fmt::format("MPM: the domain is {:.6g} cells of {} m along the periodic axis {}; it must be a "
-                                     "whole number of cells, at least 4",
-                                     cells, dx_, char('x' + k)));
-      period_cells_[std::size_t(k)] = n;
-    }
+    if (const std::string problem = periodic_problem(setup_); !problem.empty())
+      throw InputError("domain.periodic", problem);
+    for (int k = 0; k < 3; ++k)
+      if (periodicity_.along(k)) period_cells_[std::size_t(k)] = static_cast<int>(std::lround(ext[k] * inv_dx_));
     image_node_.assign(nodes, 0);
     parallel_for(nodes, [&](std::size_t node) {
       const int g[3] = {int(node / (std::size_t(ny_) * nz_)), int((node / nz_) % ny_), int(node % nz_)};

@@ -33,6 +33,10 @@ struct MixtureBudget {
   Real latent_out = 0;  // J the water took with it as it left (h_fg per kg evaporated and boiled)
 };
 
+// What is wrong with the setup's periodic axes for MPM (empty: nothing): each
+// must span a whole number of cells, at least 4, and heat must not be implicit.
+std::string periodic_problem(const Setup& setup);
+
 class MpmSolver final : public Solver {
  public:
   explicit MpmSolver(Setup setup);

@@ -15,6 +15,9 @@ std::string MpmSolver::summary() const {
                      : ms.heat == HeatMethod::implicit ? "implicit"
                                                        : "explicit",
                      ms.baseline ? " (baseline model: no gas, no water)" : "");
+  if (periodicity_.any())
+    out +=
+        fmt::format("periodic   along {} (no walls on those faces; guard nodes are images)\n", periodicity_.describe());
   out += fmt::format("particles  {} in total, mass {:.4g} kg\n", particles_.size(), total_mass());
   for (const Material& mat : setup_.materials)
     out += fmt::format("  material {:<12} rho {} kg/m^3, mu {:.4g} Pa, lambda {:.4g} Pa, {}, {}\n", mat.name,
