@@ -112,8 +112,7 @@ MpmSolver::MpmSolver(Setup setup)
     parallel_for(nodes, [&](std::size_t node) {
       const int g[3] = {int(node / (std::size_t(ny_) * nz_)), int((node / nz_) % ny_), int(node % nz_)};
       for (int k = 0; k < 3; ++k)
-        if (period_cells_[std::size_t(k)] > 0 &&
-            (g[k] < kGuardCells || g[k] >= kGuardCells + period_cells_[std::size_t(k)]))
+        if (period_cells_[std::size_t(k)] > 0 && node_inside(g[k], period_cells_[std::size_t(k)]) != g[k])
           image_node_[node] = 1;
     });
   }

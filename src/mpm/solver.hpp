@@ -105,6 +105,9 @@ class MpmSolver final : public Solver {
   template <class T>
   void copy_periodic(std::vector<T>& nodes);
   bool is_image_node(std::size_t k) const { return !image_node_.empty() && image_node_[k]; }
+  // The node index inside the period that node index g along an axis of n
+  // cells per period images (g itself when it lies inside).
+  static int node_inside(int g, int n) { return kGuardCells + ((g - kGuardCells) % n + n) % n; }
   std::array<Real, 2> flip_bounds_{};  // coldest, hottest temperature before the step (G2P)
 
   Setup setup_;
@@ -207,8 +210,8 @@ inline void MpmSolver::fold_periodic(std::vector<T>& nodes, Add&& add) {
     // Every node whose index along this axis lies in a guard layer goes to its image inside.
     for (std::size_t k = 0; k < nodes.size(); ++k) {
       const int g = int((k / stride[axis]) % std::size_t(dims[axis]));
-      if (g >= kGuardCells && g < kGuardCells + n) continue;
-      const int inside = kGuardCells + ((g - kGuardCells) % n + n) % n;
+      const int inside = node_inside(g, n);
+      if (inside == g) continue;
       const std::ptrdiff_t shift = std::ptrdiff_t(inside - g) * std::ptrdiff_t(stride[axis]);
       add(nodes[std::size_t(std::ptrdiff_t(k) + shift)], nodes[k]);
       nodes[k] = T{};
@@ -226,8 +229,8 @@ inline void MpmSolver::copy_periodic(std::vector<T>& nodes) {
     if (n == 0) continue;
     parallel_for(nodes.size(), [&](std::size_t k) {
       const int g = int((k / stride[axis]) % std::size_t(dims[axis]));
-      if (g >= kGuardCells && g < kGuardCells + n) return;
-      const int inside = kGuardCells + ((g - kGuardCells) % n + n) % n;
+      const int inside = node_inside(g, n);
+      if (inside == g) return;
       const std::ptrdiff_t shift = std::ptrdiff_t(inside - g) * std::ptrdiff_t(stride[axis]);
       nodes[k] = nodes[std::size_t(std::ptrdiff_t(k) + shift)];
     });

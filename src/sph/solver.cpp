@@ -349,14 +349,11 @@ Mat3 SphSolver::velocity_gradient(std::size_t i) const {
   }
   // No-slip walls: their ghosts' share (WallGhostSum), so a particle beside
   // the wall sees the whole shear and not half of it.
+  // S_grad scales as 1/h with the support (adaptive smoothing).
   if (no_slip_walls_)
-    for (std::size_t c = 0; c < walls_.size(); ++c) {
-      if (walls_[c].contact.mode != ContactMode::sticky) continue;
-      for_each_wall_of(c, x_[i], smoothing_[i], [&](const WallContact& w, const Vec3& wall_velocity) {
-        const Real scale = h_ / smoothing_[i];  // S scales as 1/h with h (adaptive smoothing)
-        grad += (wall_gradient_(w.distance * scale) * scale) * (v_[i] - wall_velocity) * w.normal.transpose();
-      });
-    }
+    for_each_no_slip_wall(i, [&](Real d0, Real scale, const WallContact& w, const Vec3& v_wall) {
+      grad += (wall_gradient_(d0) * scale) * (v_[i] - v_wall) * w.normal.transpose();
+    });
   return grad;
 }
 

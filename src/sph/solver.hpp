@@ -121,6 +121,18 @@ class SphSolver final : public Solver {
     const Vec3 d = x_[i] - x_[j];
     return periodic_ ? periodicity_.nearest_image(d) : d;
   }
+  // Calls fn(distance scaled to the reference support, h0/h_i, wall contact,
+  // wall velocity) for each sticky analytic wall within particle i's support:
+  // the no-slip walls' ghost sums (WallGhostSum) are tabulated at h0.
+  template <class Fn>
+  void for_each_no_slip_wall(std::size_t i, Fn&& fn) const {
+    const Real scale = h_ / smoothing_[i];
+    for (std::size_t c = 0; c < walls_.size(); ++c) {
+      if (walls_[c].contact.mode != ContactMode::sticky) continue;
+      for_each_wall_of(c, x_[i], smoothing_[i],
+                       [&](const WallContact& w, const Vec3& v_wall) { fn(w.distance * scale, scale, w, v_wall); });
+    }
+  }
   template <class Fn>
   void for_each_wall_of(std::size_t c, const Vec3& x, Real range, Fn&& fn) const {
     const Collider& collider = walls_[c];

@@ -25,15 +25,12 @@ void SphSolver::compute_wall_drag() {
   parallel_for(
       x_.size(),
       [&](std::size_t i) {
-        for (std::size_t c = 0; c < walls_.size(); ++c) {
-          if (walls_[c].contact.mode != ContactMode::sticky) continue;
-          for_each_wall_of(c, x_[i], smoothing_[i], [&](const WallContact& w, const Vec3& wall_velocity) {
-            const Real g =
-                wall_viscosity_(w.distance * h_ / smoothing_[i]) * (h_ / smoothing_[i]) * (h_ / smoothing_[i]);
-            wall_drag_[i] += g;
-            wall_drag_velocity_[i] += g * wall_velocity;
-          });
-        }
+        // S_visc scales as 1/h² with the support (adaptive smoothing).
+        for_each_no_slip_wall(i, [&](Real d0, Real scale, const WallContact&, const Vec3& v_wall) {
+          const Real g = wall_viscosity_(d0) * scale * scale;
+          wall_drag_[i] += g;
+          wall_drag_velocity_[i] += g * v_wall;
+        });
       },
       1024);
 }
@@ -135,7 +132,7 @@ void SphSolver::phase_forces() {
       // Eq 3.29: colour field Laplacian (the gradient, Eq 3.28, comes from the surface phase).
       if (any_tension) lap_c += vol[j] * (adaptive ? CubicSpline(hij).laplacian(r) : kernel_.laplacian(r));
     }
-    // No-slip walls: Eq 3.19 continued through the wall (WallViscosityShare).
+    // No-slip walls: Eq 3.19 continued through the wall (WallGhostSum).
     if (explicit_visc && no_slip) acc_v -= mui * (wall_drag_[i] * vi - wall_drag_velocity_[i]);
     Vec3 acc = acc_p + acc_v / rhoi + acc_av + acc_s + g;
     if (any_tension) {

@@ -10,6 +10,29 @@
 #include "physics/rheology.hpp"
 
 namespace bakesim::sph {
+namespace {
+
+// The temperature a material's curves read for particle i: its own, or the
+// peak it reached once set (physics/setting.hpp). A material set from the
+// start (or never) reads one of the two throughout.
+class CurveTemperature {
+ public:
+  CurveTemperature(const IrreversibleSetting& set, const std::vector<Real>& temperature, const std::vector<Real>& peak)
+      : set_(set), temperature_(temperature), peak_(peak), always_(set.is_set(-kZeroCelsius)), never_(!set.ever()) {}
+  Real operator()(std::size_t i) const {
+    if (always_) return peak_[i];
+    if (never_) return temperature_[i];
+    return set_.property_temperature(temperature_[i], peak_[i]);
+  }
+
+ private:
+  const IrreversibleSetting& set_;
+  const std::vector<Real>& temperature_;
+  const std::vector<Real>& peak_;
+  bool always_, never_;
+};
+
+}  // namespace
 
 // Eq 4.1–4.4: viscosity, elasticity, relaxation time and XSPH tuner follow
 // each particle's temperature, or the peak it reached once it has set
@@ -23,19 +46,14 @@ void SphSolver::phase_properties() {
         n, [&](std::size_t i) { peak_temperature_[i] = std::max(peak_temperature_[i], temperature_[i]); }, 4096);
   auto follow = [&](int id, const TemperatureCurve& c, std::vector<Real>& out, Real lo, Real hi) {
     if (is_constant(c)) return;
-    const IrreversibleSetting& set = setup_.materials[id].set;
-    // Set from the start (or never): the whole material reads one temperature.
-    const bool always = set.is_set(-kZeroCelsius), never = !set.ever();
-    const std::vector<Real>& t = always ? peak_temperature_ : temperature_;
+    const CurveTemperature at(setup_.materials[id].set, temperature_, peak_temperature_);
     std::visit(
         [&](const auto& curve) {
           parallel_for(
               n,
               [&](std::size_t i) {
                 if (material_[i] != id) return;
-                const Real at =
-                    always || never ? t[i] : set.property_temperature(temperature_[i], peak_temperature_[i]);
-                out[i] = std::clamp(curve(at), lo, hi);
+                out[i] = std::clamp(curve(at(i)), lo, hi);
               },
               4096);
         },
@@ -81,19 +99,16 @@ void SphSolver::phase_properties() {
 void SphSolver::apparent_viscosity(int id) {
   const Material& mat = setup_.materials[std::size_t(id)];
   const Material::YieldFlow& flow = *mat.yield_flow;
-  const IrreversibleSetting& set = mat.set;
-  const bool always = set.is_set(-kZeroCelsius), never = !set.ever();
+  const CurveTemperature at(mat.set, temperature_, peak_temperature_);
   std::visit(
       [&](const auto& consistency, const auto& yield) {
         parallel_for(
             x_.size(),
             [&](std::size_t i) {
               if (material_[i] != id) return;
-              const Real at = always  ? peak_temperature_[i]
-                              : never ? temperature_[i]
-                                      : set.property_temperature(temperature_[i], peak_temperature_[i]);
-              const HerschelBulkley law{std::max(Real(0), yield(at)), std::max(Real(0), consistency(at)),
-                                        flow.flow_index, flow.regularisation};
+              const Real t = at(i);
+              const HerschelBulkley law{std::max(Real(0), yield(t)), std::max(Real(0), consistency(t)), flow.flow_index,
+                                        flow.regularisation};
               const Mat3 l = velocity_gradient(i);
               const Mat3 d = 0.5 * (l + l.transpose());
               mu_[i] = law.apparent_viscosity(std::sqrt(2.0 * d.squaredNorm()));

@@ -10,7 +10,7 @@
 // implicit heat). Rows of K sum to zero: momentum is conserved to the solver
 // tolerance. A no-slip wall adds dt μ_i V_i G(d) to its particles' diagonal
 // and the same times the wall's velocity to the right-hand side
-// (WallViscosityShare): still symmetric positive definite.
+// (WallGhostSum): still symmetric positive definite.
 #include <fmt/format.h>
 
 #include <cmath>
