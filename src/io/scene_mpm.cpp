@@ -47,6 +47,11 @@ mpm::Material build_material(const Ctx& c, const std::string& name, const json& 
   const Real yield0 = yield(20.0), viscosity0 = viscosity(20.0);
   mat.initial_porosity = pj["initial_porosity"].get<double>();
   if (model == "von_mises") mat.plastic = mpm::VonMises{yield0, viscosity0};
+  if (model == "herschel_bulkley")
+    mat.plastic = mpm::HerschelBulkleyFlow{yield0, viscosity0, pj["flow_index"].get<double>()};
+  else if (pj["flow_index"].get<double>() != 1)
+    c.fail(mpath + ".plasticity.flow_index",
+           "is read by model \"herschel_bulkley\" only (got model \"" + model + "\")");
   if (model == "cam_clay")
     mat.plastic = mpm::CamClay{yield0, viscosity0, pj["cohesion_slope"].get<double>(), mat.initial_porosity};
   mat.specific_heat = m["specific_heat"].get<double>();

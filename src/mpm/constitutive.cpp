@@ -1,4 +1,5 @@
 #include "mpm/constitutive.hpp"
+#include "physics/rheology.hpp"
 
 #include <Eigen/Geometry>
 #include <Eigen/LU>
@@ -174,6 +175,20 @@ Svd3 ellipse_return(Real yield, Real viscosity, Real a, const Lame& lame, Real d
 
 Svd3 return_map(const VonMises& law, const Lame& lame, Real dt, Real, const Svd3& svd) {
   return ellipse_return(law.yield_stress, law.viscosity, 0, lame, dt, svd);
+}
+
+Svd3 return_map(const HerschelBulkleyFlow& law, const Lame& lame, Real dt, Real, const Svd3& svd) {
+  const Vec3 eps = svd.sigma.cwiseAbs().array().max(1e-12).log().matrix();
+  const Real tr = eps.sum();
+  const Vec3 dev = eps.array() - tr / 3;
+  // Shear stress equivalent √(J₂) = q/√3 = √2 μ |dev ε| of the trial state.
+  const Real tau_trial = std::sqrt(2.0) * lame.mu * dev.norm();
+  const Real overstress = tau_trial - law.yield_stress;
+  if (overstress <= 0) return svd;
+  const HerschelBulkley flow{law.yield_stress, law.viscosity, law.flow_index};
+  const Real tau = law.yield_stress + flow.relaxed_overstress(overstress, lame.mu, dt);
+  const Vec3 dev_new = dev * (tau / tau_trial);  // radial return: pressure unchanged
+  return Svd3{svd.u, svd.v, (dev_new.array() + tr / 3).exp().matrix()};
 }
 
 Real CamClay::porosity(Real plastic_j) const {

@@ -62,7 +62,18 @@ struct CamClay {
   Real porosity(Real plastic_j) const;
   Real a(Real plastic_j) const;  // A(n(J^P))
 };
-using PlasticLaw = std::variant<NoPlasticity, VonMises, CamClay>;
+// A Herschel–Bulkley fluid with a true yield surface: von Mises in Hencky
+// strain with the shear yield stress τ_y (uniaxial √3 τ_y), above which the
+// overstress relaxes by the shared law's backward-Euler Perzyna flow
+// (HerschelBulkley::relaxed_overstress): steady shear gives τ = τ_y + K γ̇ⁿ,
+// the same law and numbers as SPH's material.herschel_bulkley. The field
+// names follow the setting curves (yield_stress = τ_y, viscosity = K).
+struct HerschelBulkleyFlow {
+  Real yield_stress;    // τ_y, shear, Pa
+  Real viscosity;       // K, Pa·sⁿ
+  Real flow_index = 1;  // n
+};
+using PlasticLaw = std::variant<NoPlasticity, VonMises, CamClay, HerschelBulkleyFlow>;
 
 // Return mapping of spec 3.2 for a Hencky material: projects the trial F^E
 // (given by its SVD) and returns the SVD of the new F^E — the same rotations
@@ -72,6 +83,7 @@ using PlasticLaw = std::variant<NoPlasticity, VonMises, CamClay>;
 // (a scalar Newton solve for the plastic multiplier), then the relaxation.
 Svd3 return_map(const VonMises& law, const Lame& lame, Real dt, Real plastic_j, const Svd3& svd);
 Svd3 return_map(const CamClay& law, const Lame& lame, Real dt, Real plastic_j, const Svd3& svd);
+Svd3 return_map(const HerschelBulkleyFlow& law, const Lame& lame, Real dt, Real plastic_j, const Svd3& svd);
 // Yield function f(τ) of a principal Kirchhoff stress (for tests).
 Real yield_function(const CamClay& law, Real plastic_j, const Vec3& principal_tau);
 inline Mat3 compose(const Svd3& s) { return s.u * s.sigma.asDiagonal() * s.v.transpose(); }

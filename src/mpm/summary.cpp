@@ -23,9 +23,10 @@ std::string MpmSolver::summary() const {
     out += fmt::format("  material {:<12} rho {} kg/m^3, mu {:.4g} Pa, lambda {:.4g} Pa, {}, {}\n", mat.name,
                        mat.density, mat.lame.mu, mat.lame.lambda,
                        std::holds_alternative<Hencky>(mat.elastic) ? "hencky" : "fixed corotated",
-                       std::holds_alternative<VonMises>(mat.plastic)  ? "von Mises plasticity"
-                       : std::holds_alternative<CamClay>(mat.plastic) ? "Cam-clay plasticity"
-                                                                      : "elastic");
+                       std::holds_alternative<VonMises>(mat.plastic)              ? "von Mises plasticity"
+                       : std::holds_alternative<CamClay>(mat.plastic)             ? "Cam-clay plasticity"
+                       : std::holds_alternative<HerschelBulkleyFlow>(mat.plastic) ? "Herschel-Bulkley flow"
+                                                                                  : "elastic");
   out += fmt::format("colliders  {}\n", setup_.colliders.size());
   for (const Collider& c : setup_.colliders)
     out += fmt::format("  '{}' {} contact, friction {}{}\n", c.name,

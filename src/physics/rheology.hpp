@@ -42,6 +42,36 @@ struct HerschelBulkley {
   }
   // The largest apparent viscosity (at rest), for time-step and solver choices.
   Real viscosity_at_rest() const { return apparent_viscosity(0); }
+
+  // A solver with a yield surface (MPM): one backward-Euler step of the
+  // Perzyna overstress flow. Given the trial shear overstress x_tr = τ_tr − τ_y
+  // of an elastic predictor with shear modulus G, returns the overstress x
+  // left after the plastic shear rate γ̇_p = (x/K)^{1/n} has acted for dt:
+  //   x + G dt (x/K)^{1/n} = x_tr,
+  // so that in steady shear at rate γ̇ the stress is exactly τ_y + K γ̇ⁿ.
+  // n = 1: x = x_tr / (1 + G dt / K). The left side increases with x, so a
+  // Newton step safeguarded by bisection on [0, x_tr] converges.
+  Real relaxed_overstress(Real trial_overstress, Real shear_modulus, Real dt) const {
+    if (trial_overstress <= 0) return trial_overstress;
+    if (consistency <= 0) return 0;  // rate-independent: back onto the yield surface
+    const Real c = shear_modulus * dt, m = 1 / flow_index;
+    if (flow_index == 1) return trial_overstress / (1 + c / consistency);
+    Real lo = 0, hi = trial_overstress, x = trial_overstress;
+    for (int it = 0; it < 100; ++it) {
+      const Real rate = std::pow(x / consistency, m);
+      const Real f = x + c * rate - trial_overstress;
+      if (f > 0)
+        hi = x;
+      else
+        lo = x;
+      if (std::abs(f) <= 1e-13 * trial_overstress || hi - lo <= 1e-15 * trial_overstress) break;
+      const Real df = 1 + c * m * rate / std::max(x, Real(1e-300));
+      Real next = x - f / df;
+      if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+      x = next;
+    }
+    return x;
+  }
 };
 
 // The von Mises viscoplastic parameters (uniaxial yield stress and the

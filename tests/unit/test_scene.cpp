@@ -847,3 +847,21 @@ TEST(Scene, PeriodicAxesAreCheckedForEachSolver) {
   in_code.domain.max.x() = 0.1013;
   EXPECT_THROW(mpm::MpmSolver{in_code}, InputError);
 }
+
+// MPM's herschel_bulkley plasticity: the shared law's numbers (shear yield
+// stress, consistency, flow index), temperature curves through the setting
+// curves as for von Mises; flow_index with another model is an error.
+TEST(Scene, MpmHerschelBulkleyPlasticityTakesTheSharedLawsNumbers) {
+  json doc = mpm_scene();
+  doc["materials"]["dough"]["plasticity"] = {
+      {"model", "herschel_bulkley"}, {"yield_stress", 80.0}, {"viscosity", 12.0}, {"flow_index", 0.4}};
+  const Scene s = parse_scene(doc.dump(), "scene.json", ".");
+  const auto* law = std::get_if<mpm::HerschelBulkleyFlow>(&s.mpm.materials.at(0).plastic);
+  ASSERT_NE(law, nullptr);
+  EXPECT_DOUBLE_EQ(law->yield_stress, 80.0);
+  EXPECT_DOUBLE_EQ(law->viscosity, 12.0);
+  EXPECT_DOUBLE_EQ(law->flow_index, 0.4);
+  json wrong = mpm_scene();
+  wrong["materials"]["dough"]["plasticity"]["flow_index"] = 0.5;
+  expect_error(wrong, {"scene.json: materials.dough.plasticity.flow_index", "herschel_bulkley"});
+}

@@ -371,3 +371,35 @@ TEST(Rheology, HerschelBulkleyApparentViscosityIsTheLawAboveTheRegularisationRat
   EXPECT_NEAR(vm.uniaxial_yield_stress, 10.0 * std::sqrt(3.0), 1e-12);
   EXPECT_DOUBLE_EQ(vm.viscosity, 4.0);
 }
+
+// The overstress return of a yield-surface solver: in steady shear (the same
+// elastic shear increment G γ̇ dt added each step, the return applied) the
+// stress settles at τ_y + K γ̇ⁿ exactly, for any n and any step; the step
+// equation itself holds to round-off; n = 1 is the closed form.
+TEST(Rheology, RelaxedOverstressGivesTheHerschelBulkleyStressInSteadyShear) {
+  const Real shear_modulus = 4e4, yield = 50;
+  for (const Real n : {0.4, 1.0, 1.8})
+    for (const Real dt : {1e-5, 1e-3}) {
+      const HerschelBulkley law{yield, 8.0, n};
+      for (const Real rate : {0.5, 3.0, 40.0}) {
+        Real x = 0;  // overstress τ − τ_y after each step's return
+        for (int step = 0; step < 200000; ++step) {
+          const Real next = law.relaxed_overstress(x + shear_modulus * rate * dt, shear_modulus, dt);
+          if (std::abs(next - x) < 1e-13 * (1 + x)) break;
+          x = next;
+        }
+        EXPECT_NEAR(yield + x, law.shear_stress(rate), 1e-6 * law.shear_stress(rate))
+            << "n " << n << " dt " << dt << " rate " << rate;
+      }
+      const Real trial = 300, c = shear_modulus * dt;
+      const Real x = law.relaxed_overstress(trial, shear_modulus, dt);
+      EXPECT_GE(x, 0);
+      EXPECT_LE(x, trial);
+      EXPECT_NEAR(x + c * std::pow(x / law.consistency, 1 / n), trial, 1e-9 * trial);
+    }
+  const HerschelBulkley bingham{10.0, 2.0, 1.0};
+  EXPECT_DOUBLE_EQ(bingham.relaxed_overstress(30.0, 100.0, 0.01), 30.0 / (1 + 100.0 * 0.01 / 2.0));
+  EXPECT_DOUBLE_EQ(bingham.relaxed_overstress(-3.0, 100.0, 0.01), -3.0);  // below yield: untouched
+  const HerschelBulkley rate_independent{10.0, 0.0, 1.0};
+  EXPECT_DOUBLE_EQ(rate_independent.relaxed_overstress(30.0, 100.0, 0.01), 0.0);
+}

@@ -43,6 +43,17 @@ double bingham_channel(double y, double force, double rho, double mu, double yie
   return g * (b * b - eta * eta) / (2 * mu) - yield_stress * (b - eta) / mu;
 }
 
+// The steady Herschel–Bulkley channel (τ = τ_y + K γ̇ⁿ), same geometry:
+//   u(η) = n/(n+1) (G/K)^{1/n} [(b − y₀)^{(n+1)/n} − (η − y₀)^{(n+1)/n}] for η > y₀,
+// the plug moving at its value for η = y₀ (n = 1: bingham_channel).
+double herschel_bulkley_channel(double y, double force, double rho, double consistency, double flow_index,
+                                double yield_stress, double length) {
+  const double g = rho * force, b = 0.5 * length, y0 = yield_stress / g, m = (flow_index + 1) / flow_index;
+  const double eta = std::max(std::min(std::abs(y - b), b), y0);
+  return flow_index / (flow_index + 1) * std::pow(g / consistency, 1 / flow_index) *
+         (std::pow(b - y0, m) - std::pow(eta - y0, m));
+}
+
 struct Channel {
   double length = 1e-3;    // plate distance L, m
   double nu = 1e-6;        // kinematic viscosity, m²/s
@@ -137,6 +148,10 @@ MidPlane mid_plane(const ParticleSet& ps, const Channel& c, double t) {
 TEST(ChannelSeries, MorrisSeriesStartsAtRestAndEndsParabolic) {
   EXPECT_NEAR(poiseuille_startup(0.5e-3, 0.0, 2e-4, 1e-6, 1e-3), 0.0, 1e-9);
   EXPECT_NEAR(poiseuille_startup(0.5e-3, 100.0, 2e-4, 1e-6, 1e-3), 2.5e-5, 1e-12);
+  // The Herschel–Bulkley profile reduces to the Bingham one at n = 1.
+  for (double y : {0.0, 0.01, 0.03, 0.05, 0.08})
+    EXPECT_NEAR(herschel_bulkley_channel(y, 10, 1000, 50, 1.0, 250, 0.1), bingham_channel(y, 10, 1000, 50, 250, 0.1),
+                1e-12);
 }
 
 class PoiseuilleStartUp : public ::testing::TestWithParam<std::tuple<std::string, int>> {};
@@ -260,10 +275,19 @@ namespace {
 // steps of ~0.2 ms: plates 0.1 m apart, periodic along x and z (4 cells), a
 // von Mises material whose steady shear is the shared Bingham law
 // (von_mises_equivalent: yield √3 τ_y, η = 2K).
-json mpm_bingham_channel(int across, double yield_stress, double consistency, double force, double length) {
+json mpm_bingham_channel(int across, double yield_stress, double consistency, double force, double length,
+                         double flow_index = 0) {
   const double dx = length / across, w = 4 * dx;
   const HerschelBulkley law{yield_stress, consistency, 1.0};
   const VonMisesEquivalent vm = von_mises_equivalent(law);
+  // flow_index > 0: the herschel_bulkley model with the law's own numbers.
+  const json plasticity =
+      flow_index > 0
+          ? json{{"model", "herschel_bulkley"},
+                 {"yield_stress", yield_stress},
+                 {"viscosity", consistency},
+                 {"flow_index", flow_index}}
+          : json{{"model", "von_mises"}, {"yield_stress", vm.uniaxial_yield_stress}, {"viscosity", vm.viscosity}};
   auto plate = [&](double y, double ny) {
     return json{{"name", ny > 0 ? "bottom-plate" : "top-plate"},
                 {"shape", {{"type", "plane"}, {"point", {0, y, 0}}, {"normal", {0, ny, 0}}}},
@@ -275,11 +299,7 @@ json mpm_bingham_channel(int across, double yield_stress, double consistency, do
           {"domain", {{"min", {0, -4 * dx, 0}}, {"max", {w, length + 4 * dx, w}}, {"periodic", {"x", "z"}}}},
           {"materials",
            {{"bingham",
-             {{"density", 1000.0},
-              {"youngs_modulus", 1e5},
-              {"poisson_ratio", 0.3},
-              {"plasticity",
-               {{"model", "von_mises"}, {"yield_stress", vm.uniaxial_yield_stress}, {"viscosity", vm.viscosity}}}}}}},
+             {{"density", 1000.0}, {"youngs_modulus", 1e5}, {"poisson_ratio", 0.3}, {"plasticity", plasticity}}}}},
           {"colliders", json::array({plate(0, 1), plate(length, -1)})},
           {"bodies", json::array({{{"name", "fluid"},
                                    {"material", "bingham"},
@@ -320,6 +340,44 @@ TEST_P(MpmBinghamChannel, PlugSettlesAndFollowsTheAnalyticProfile) {
 INSTANTIATE_TEST_SUITE_P(Cells, MpmBinghamChannel, ::testing::Values(std::make_tuple(20, 0.08)),
                          [](const auto& info) { return std::to_string(std::get<0>(info.param)) + "_across"; });
 INSTANTIATE_TEST_SUITE_P(DISABLED_Fine, MpmBinghamChannel, ::testing::Values(std::make_tuple(40, 0.05)),
+                         [](const auto& info) { return std::to_string(std::get<0>(info.param)) + "_across"; });
+
+// Issue 26: a shear-thinning Herschel–Bulkley fluid (n = 0.5) in the same MPM
+// channel with the herschel_bulkley plasticity model (the shared law's
+// return): τ_y = 250 Pa (plug half the channel), K = 93 Pa·s^0.5 (analytic
+// plug 0.0602 m/s, wall shear rate 7.2/s). Through this model n = 1, K = 50
+// gives the von Mises channel's plug to the last digit. Measured plug error
+// +15.8% at 20 cells across, +9.9% at 40 (docs/validation.md): the MPM
+// channel's first-order error, three times the Bingham one because the plug
+// speed goes as (b − y₀)^{1+1/n}. CI checks 20 across against 20%, the
+// disabled case 40 across against 12%; the issue's 5% is not met.
+class MpmHerschelBulkleyChannel : public ::testing::TestWithParam<std::tuple<int, double>> {};
+
+TEST_P(MpmHerschelBulkleyChannel, ShearThinningPlugSettlesOnTheAnalyticProfile) {
+  const auto [across, tolerance] = GetParam();
+  const double length = 0.1, rho = 1000, force = 10, consistency = 93, n = 0.5;
+  const double b = 0.5 * length, yield_stress = rho * force * 0.5 * b;
+  const double u_plug = herschel_bulkley_channel(b, force, rho, consistency, n, yield_stress, length);
+  auto mpm = test_support::make_mpm(mpm_bingham_channel(across, yield_stress, consistency, force, length, n));
+  auto plug = [&] { return centre_speed(mpm->particles(), 0.5 * length / across, length); };
+  test_support::advance_to(*mpm, 0.75);
+  const double early = plug();
+  test_support::advance_to(*mpm, 1.25);
+  const double late = plug();
+  std::printf(
+      "MPM Herschel-Bulkley n = 0.5, %d across: plug %.4e m/s at 0.75 s, %.4e at 1.25 s, analytic %.4e: "
+      "error %+.2f%%\n",
+      across, early, late, u_plug, 100 * (late / u_plug - 1));
+  EXPECT_NEAR(late / early, 1.0, 0.01) << "settled";
+  EXPECT_NEAR(late, u_plug, tolerance * u_plug);
+  for (const auto& [y, v] : layer_profile(mpm->particles(), 0.5 * length / across, length))
+    EXPECT_NEAR(v, herschel_bulkley_channel(y, force, rho, consistency, n, yield_stress, length), tolerance * u_plug)
+        << "at y = " << y;
+}
+
+INSTANTIATE_TEST_SUITE_P(Cells, MpmHerschelBulkleyChannel, ::testing::Values(std::make_tuple(20, 0.2)),
+                         [](const auto& info) { return std::to_string(std::get<0>(info.param)) + "_across"; });
+INSTANTIATE_TEST_SUITE_P(DISABLED_Fine, MpmHerschelBulkleyChannel, ::testing::Values(std::make_tuple(40, 0.12)),
                          [](const auto& info) { return std::to_string(std::get<0>(info.param)) + "_across"; });
 
 // Issue 26, moving no-slip walls: plane Couette flow. The top plate slides

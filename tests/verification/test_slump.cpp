@@ -27,9 +27,7 @@ using nlohmann::json;
 
 namespace {
 
-double slump_relation(double sigma) {
-  return sigma >= 1 ? 0.0 : 1 - sigma * (1 - std::log(sigma));
-}
+double slump_relation(double sigma) { return sigma >= 1 ? 0.0 : 1 - sigma * (1 - std::log(sigma)); }
 
 constexpr double kHeight = 0.1;  // m; the cylinder's height equals its diameter (Pashias)
 constexpr double kDensity = 1000;
@@ -55,26 +53,27 @@ json mpm_slump(int cells_across, double sigma, double viscosity) {
   const double r = 0.5 * kHeight, dx = kHeight / cells_across;
   const double yield_stress = sigma * kDensity * kGravity * kHeight;
   const double w = 3 * r;
-  return {{"solver", {{"type", "mpm"}, {"mpm", {{"cell_size", dx}, {"heat", "off"}, {"model", "baseline"}}}}},
-          {"time", {{"end", 10.0}}},
-          {"gravity", {0, -kGravity, 0}},
-          {"domain", {{"min", {-4 * dx, 0, -4 * dx}}, {"max", {w, 1.2 * kHeight, w}}}},
-          {"colliders", json::array({symmetry_plane("x-symmetry", Vec3(1, 0, 0)), symmetry_plane("z-symmetry", Vec3(0, 0, 1))})},
-          {"materials",
-           {{"bingham",
-             {{"density", kDensity},
-              {"youngs_modulus", 1e5},
-              {"poisson_ratio", 0.3},
-              {"plasticity", {{"model", "von_mises"}, {"yield_stress", yield_stress}, {"viscosity", viscosity}}}}}}},
-          {"bodies",
-           json::array({{{"name", "column"},
-                         {"material", "bingham"},
-                         {"shape",
-                          {{"type", "difference"},
-                           {"base",
-                            {{"type", "cylinder"}, {"center", {0, 0.5 * kHeight, 0}}, {"radius", r}, {"height", kHeight}}},
-                           {"subtract",
-                            json::array({{{"type", "box"}, {"min", {-r, -0.1, -r}}, {"max", {0, 0.2, r}}},
+  return {
+      {"solver", {{"type", "mpm"}, {"mpm", {{"cell_size", dx}, {"heat", "off"}, {"model", "baseline"}}}}},
+      {"time", {{"end", 10.0}}},
+      {"gravity", {0, -kGravity, 0}},
+      {"domain", {{"min", {-4 * dx, 0, -4 * dx}}, {"max", {w, 1.2 * kHeight, w}}}},
+      {"colliders",
+       json::array({symmetry_plane("x-symmetry", Vec3(1, 0, 0)), symmetry_plane("z-symmetry", Vec3(0, 0, 1))})},
+      {"materials",
+       {{"bingham",
+         {{"density", kDensity},
+          {"youngs_modulus", 1e5},
+          {"poisson_ratio", 0.3},
+          {"plasticity", {{"model", "von_mises"}, {"yield_stress", yield_stress}, {"viscosity", viscosity}}}}}}},
+      {"bodies",
+       json::array(
+           {{{"name", "column"},
+             {"material", "bingham"},
+             {"shape",
+              {{"type", "difference"},
+               {"base", {{"type", "cylinder"}, {"center", {0, 0.5 * kHeight, 0}}, {"radius", r}, {"height", kHeight}}},
+               {"subtract", json::array({{{"type", "box"}, {"min", {-r, -0.1, -r}}, {"max", {0, 0.2, r}}},
                                          {{"type", "box"}, {"min", {-r, -0.1, -r}}, {"max", {r, 0.2, 0}}}})}}}}})}};
 }
 
@@ -88,18 +87,17 @@ json sph_slump(int across, double sigma, double plastic_viscosity, double regula
           {"gravity", {0, -kGravity, 0}},
           {"domain", {{"min", {-w, 0, -w}}, {"max", {w, 1.2 * kHeight, w}}}},
           {"materials",
-           {{"bingham",
-             sigma > 0 ? json{{"density", kDensity},
-              {"viscosity", plastic_viscosity},
-              {"herschel_bulkley", {{"yield_stress", shear_yield}, {"regularisation_rate", regularisation}}}} : json{{"density", kDensity},
-              {"viscosity", plastic_viscosity}}}}},
-          {"bodies", json::array({{{"name", "column"},
-                                   {"material", "bingham"},
-                                   {"shape",
-                                    {{"type", "cylinder"},
-                                     {"center", {0, 0.5 * kHeight, 0}},
-                                     {"radius", r},
-                                     {"height", kHeight}}}}})}};
+           {{"bingham", sigma > 0 ? json{{"density", kDensity},
+                                         {"viscosity", plastic_viscosity},
+                                         {"herschel_bulkley",
+                                          {{"yield_stress", shear_yield}, {"regularisation_rate", regularisation}}}}
+                                  : json{{"density", kDensity}, {"viscosity", plastic_viscosity}}}}},
+          {"bodies",
+           json::array(
+               {{{"name", "column"},
+                 {"material", "bingham"},
+                 {"shape",
+                  {{"type", "cylinder"}, {"center", {0, 0.5 * kHeight, 0}}, {"radius", r}, {"height", kHeight}}}}})}};
 }
 
 struct Slump {
@@ -147,8 +145,8 @@ TEST_P(MpmSlump, SettlesNearTheSlumpTestRelation) {
 }
 
 INSTANTIATE_TEST_SUITE_P(TenCells, MpmSlump,
-                         ::testing::Values(std::make_tuple(10, 0.2), std::make_tuple(10, 0.3),
-                                           std::make_tuple(10, 0.5), std::make_tuple(10, 0.7)),
+                         ::testing::Values(std::make_tuple(10, 0.2), std::make_tuple(10, 0.3), std::make_tuple(10, 0.5),
+                                           std::make_tuple(10, 0.7)),
                          [](const auto& info) {
                            return std::to_string(std::get<0>(info.param)) + "_cells_sigma_" +
                                   std::to_string(int(std::lround(100 * std::get<1>(info.param))));
@@ -156,8 +154,7 @@ INSTANTIATE_TEST_SUITE_P(TenCells, MpmSlump,
 // The convergence study's finer case (about 2 minutes each): run with
 // --gtest_also_run_disabled_tests.
 INSTANTIATE_TEST_SUITE_P(DISABLED_TwentyCells, MpmSlump,
-                         ::testing::Values(std::make_tuple(20, 0.3), std::make_tuple(20, 0.5)),
-                         [](const auto& info) {
+                         ::testing::Values(std::make_tuple(20, 0.3), std::make_tuple(20, 0.5)), [](const auto& info) {
                            return std::to_string(std::get<0>(info.param)) + "_cells_sigma_" +
                                   std::to_string(int(std::lround(100 * std::get<1>(info.param))));
                          });
