@@ -3,7 +3,8 @@
 // implicit viscosity (three velocity components side by side) and the MPM
 // implicit heat (one temperature per grid node). `Value` is Real (one system)
 // or Vec3 (three independent systems with the same matrix, each with its own
-// step lengths and stopping test). Every sum is a deterministic reduction, so
+// step lengths and stopping test; or, with Coupled, one system of 3n unknowns
+// whose components the matrix couples: the stress-form viscosity). Every sum is a deterministic reduction, so
 // the iterates do not depend on the thread count.
 //
 // One failure policy for both: a solve that stops at max_iterations with a
@@ -33,6 +34,9 @@ inline Real zero(Real) { return 0.0; }
 inline Vec3 zero(const Vec3&) { return Vec3::Zero(); }
 inline int size(Real) { return 1; }
 inline int size(const Vec3&) { return 3; }
+// Coupled: every component carries the sum over components (one system).
+inline Real couple(Real v) { return v; }
+inline Vec3 couple(const Vec3& v) { return Vec3::Constant(v.sum()); }
 inline Real& at(Real& v, int) { return v; }
 inline Real& at(Vec3& v, int c) { return v[c]; }
 inline Real at(const Real& v, int) { return v; }
@@ -64,8 +68,10 @@ Value pcg_sum(std::size_t n, Term&& term) {
 // Solves A x = b for the rows where active(i) (x is the initial guess and the
 // answer); `apply(in, out)` writes out = A in over all n rows, `diag` is A's
 // diagonal (the Jacobi preconditioner, 1 on inactive rows). Stops when
-// r·r ≤ stop2 for every system, or after max_iterations.
-template <class Value, class Apply, class Active>
+// r·r ≤ stop2 for every system, or after max_iterations. Coupled (Vec3):
+// one system, its dot products summed over the components (stop2 then
+// bounds the whole r·r in every component).
+template <class Value, bool Coupled = false, class Apply, class Active>
 PcgResult<Value> solve_pcg(std::size_t n, Apply&& apply, Active&& active, const std::vector<Real>& diag,
                            const std::vector<Value>& b, std::vector<Value>& x, const Value& stop2, int max_iterations,
                            PcgScratch<Value>& w) {
@@ -81,13 +87,20 @@ PcgResult<Value> solve_pcg(std::size_t n, Apply&& apply, Active&& active, const 
         p[i] = z[i];
       },
       4096);
-  Value rz = pcg_sum<Value>(n, [&](std::size_t i) { return times(r[i], z[i]); });
+  auto dot = [&](const std::vector<Value>& a, const std::vector<Value>& b) {
+    const Value d = pcg_sum<Value>(n, [&](std::size_t i) { return times(a[i], b[i]); });
+    if constexpr (Coupled)
+      return couple(d);
+    else
+      return d;
+  };
+  Value rz = dot(r, z);
   PcgResult<Value> result;
   result.stop2 = stop2;
-  result.residual2 = pcg_sum<Value>(n, [&](std::size_t i) { return times(r[i], r[i]); });
+  result.residual2 = dot(r, r);
   while (result.iterations < max_iterations && any_above(result.residual2, stop2)) {
     apply(p, ap);
-    const Value pap = pcg_sum<Value>(n, [&](std::size_t i) { return times(p[i], ap[i]); });
+    const Value pap = dot(p, ap);
     Value alpha = zero(pap);
     for (int c = 0; c < size(pap); ++c)
       at(alpha, c) = at(pap, c) > 0 && at(result.residual2, c) > at(stop2, c) ? at(rz, c) / at(pap, c) : 0.0;
@@ -99,8 +112,8 @@ PcgResult<Value> solve_pcg(std::size_t n, Apply&& apply, Active&& active, const 
           z[i] = r[i] / diag[i];
         },
         4096);
-    const Value rz_new = pcg_sum<Value>(n, [&](std::size_t i) { return times(r[i], z[i]); });
-    result.residual2 = pcg_sum<Value>(n, [&](std::size_t i) { return times(r[i], r[i]); });
+    const Value rz_new = dot(r, z);
+    result.residual2 = dot(r, r);
     Value beta = zero(rz);
     for (int c = 0; c < size(rz); ++c) at(beta, c) = at(rz, c) > 0 ? at(rz_new, c) / at(rz, c) : 0.0;
     rz = rz_new;

@@ -81,6 +81,10 @@ sph::Settings build_settings(const json& doc) {
   st.surface_hull_threshold = sj["surface"]["hull_threshold"].get<double>();
   st.surface_every = sj["surface"]["every_steps"].get<int>();
   st.viscosity_solver = sph::parse_viscosity_solver(sj["viscosity_solver"].get<std::string>());
+  st.stress_viscosity = sj["viscosity_operator"].get<std::string>() == "stress";
+  if (st.stress_viscosity && st.viscosity_solver == sph::ViscositySolver::explicit_euler)
+    throw InputError("solver.sph.viscosity_operator",
+                     "\"stress\" is solved implicitly: set viscosity_solver to implicit or auto");
   const json& aj = sj["adaptive_smoothing"];
   st.adaptive.enabled = aj["enabled"].get<bool>();
   st.adaptive.geometric_mean = aj["reference"].get<std::string>() == "geometric_mean";

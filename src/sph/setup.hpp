@@ -96,6 +96,11 @@ struct Settings {
   Real surface_hull_threshold = 0.5;    // hull boundary closer than this × spacing: on the surface
   int surface_every = 1;                // steps between surface detections
   ViscositySolver viscosity_solver = ViscositySolver::automatic;
+  // Stress-form viscosity (implicit only): the force is the divergence of
+  // 2μ dev D from corrected kernel gradients, so free surfaces carry the
+  // stress of extensional flow (a yield-stress column stands); false: the
+  // thesis's Laplacian (Eq 3.19).
+  bool stress_viscosity = false;
   AdaptiveSmoothing adaptive;
   Real implicit_tolerance = 1e-6;  // relative residual of the implicit viscosity solve
   int implicit_max_iterations = 500;

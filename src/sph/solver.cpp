@@ -117,7 +117,7 @@ SphSolver::SphSolver(Setup setup)
                                                  : tait_b_.at(std::clamp<int>(b.material, 0, int(tait_b_.size()) - 1)));
   // Implicit viscosity when the explicit viscous bound would be tighter than
   // the CFL bound at the largest viscosity any material reaches.
-  implicit_viscosity_ = s.viscosity_solver == ViscositySolver::implicit;
+  implicit_viscosity_ = s.viscosity_solver == ViscositySolver::implicit || s.stress_viscosity;
   if (s.viscosity_solver == ViscositySolver::automatic) {
     const Real hs = 0.5 * h_;
     Real nu = 0;
@@ -129,7 +129,8 @@ SphSolver::SphSolver(Setup setup)
                  .viscosity_at_rest();
       nu = std::max(nu, mu / m.rest_density);
     }
-    implicit_viscosity_ = nu > 0 && s.viscous_factor * hs * hs / nu < s.cfl * hs / s.speed_of_sound;
+    implicit_viscosity_ =
+        s.stress_viscosity || (nu > 0 && s.viscous_factor * hs * hs / nu < s.cfl * hs / s.speed_of_sound);
   }
   // Domain walls come first, then analytic colliders; meshes are separate.
   periodicity_ = setup_.periodicity();

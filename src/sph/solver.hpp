@@ -99,6 +99,7 @@ class SphSolver final : public Solver {
   void phase_collide();
   void phase_xsph();
   void phase_viscosity(Real dt);
+  void solve_stress_viscosity(Real dt, const std::vector<Real>& diag);  // phase_viscosity, stress form
   void phase_heat(Real dt);
   void phase_browning(Real dt);
   void phase_water(Real dt);
@@ -234,9 +235,11 @@ class SphSolver final : public Solver {
   // Σ S(d) over the sticky walls within h, and Σ S(d) v_wall (wall_viscosity_).
   std::vector<Real> wall_drag_;
   std::vector<Vec3> wall_drag_velocity_;
-  std::vector<double> pair_visc_;    // implicit viscosity weights, layout of lists_
-  std::vector<Vec3> viscosity_rhs_;  // M v* of the implicit viscosity solve
-  PcgScratch<Vec3> viscosity_pcg_;   // its conjugate-gradient vectors
+  std::vector<double> pair_visc_;              // implicit viscosity weights, layout of lists_
+  std::vector<Vec3> viscosity_rhs_;            // M v* of the implicit viscosity solve
+  PcgScratch<Vec3> viscosity_pcg_;             // its conjugate-gradient vectors
+  std::vector<Mat3> correction_;               // stress-form viscosity: C_i = M_i^{−T}
+  std::vector<Mat3> stress_times_correction_;  // S_i C_i of the current iterate
   // Per neighbour pair, in the layout of lists_ (computed by the density
   // phase, valid until positions change): W(r) and W'(r)/r.
   std::vector<float> pair_w_, pair_dwr_;

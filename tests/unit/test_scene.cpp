@@ -865,3 +865,16 @@ TEST(Scene, MpmHerschelBulkleyPlasticityTakesTheSharedLawsNumbers) {
   wrong["materials"]["dough"]["plasticity"]["flow_index"] = 0.5;
   expect_error(wrong, {"scene.json: materials.dough.plasticity.flow_index", "herschel_bulkley"});
 }
+
+// SPH's stress-form viscosity is implicit: auto picks the implicit solve,
+// explicit is an error naming the key; MPM does not read it.
+TEST(Scene, SphStressViscosityIsImplicit) {
+  json doc = base_scene();
+  doc["solver"]["sph"]["viscosity_operator"] = "stress";
+  const Scene s = parse_scene(doc.dump(), "scene.json", ".");
+  EXPECT_TRUE(s.sph.settings.stress_viscosity);
+  doc["solver"]["sph"]["viscosity_solver"] = "explicit";
+  expect_error(doc, {"solver.sph.viscosity_operator", "implicit"});
+  json plain = base_scene();
+  EXPECT_FALSE(parse_scene(plain.dump(), "scene.json", ".").sph.settings.stress_viscosity);
+}

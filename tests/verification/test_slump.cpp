@@ -159,14 +159,79 @@ INSTANTIATE_TEST_SUITE_P(DISABLED_TwentyCells, MpmSlump,
                                   std::to_string(int(std::lround(100 * std::get<1>(info.param))));
                          });
 
-// SPH: measured, not yet asserted (docs/validation.md): the column collapses
-// far past the relation because the SPH viscous operator resists the
-// extensional flow of a free column about ten times too weakly.
-TEST(SphSlump, DISABLED_History) {
-  auto sph = test_support::make_sph(sph_slump(20, 0.5, 50.0, 0.01));
+// SPH: measured, not yet asserted (docs/validation.md). With the thesis's
+// Laplacian viscosity the column collapses far past the relation (a free
+// column resists extension about ten times too weakly); with the stress form
+// it slumps far less but is not yet within 0.05 and costs minutes.
+TEST(SphSlump, DISABLED_StressFormHistory) {
+  json scene = sph_slump(20, 0.5, 50.0, 0.01);
+  scene["solver"]["sph"]["viscosity_operator"] = "stress";
+  auto sph = test_support::make_sph(scene);
   const double start = top(sph->particles());
   for (double t = 0.1; t < 1.01; t += 0.1) {
     test_support::advance_to(*sph, t);
-    std::printf("t %.1f s: slump %.4f\n", t, (start - top(sph->particles())) / kHeight);
+    std::printf("t %.1f s: slump %.4f (relation %.4f)\n", t, (start - top(sph->particles())) / kHeight,
+                slump_relation(0.5));
   }
+}
+
+// The stress-form viscosity (solver.sph.viscosity_operator = stress) damps
+// only deformation: a free ball of very viscous fluid spinning rigidly keeps
+// its angular velocity (D = 0 exactly for the corrected gradients, and the
+// force conserves angular momentum), where the Laplacian form brakes its
+// surface. A shear wave in a periodic box decays at ν k² as with the
+// Laplacian (to the tolerance stated below).
+namespace {
+struct Spin {
+  double angular_momentum = 0, angular_velocity = 0;  // both relative to the start
+};
+Spin spin_after(const std::string& op, double duration) {
+  const double s = 0.005, omega = 2.0;
+  const json scene = {
+      {"solver",
+       {{"type", "sph"},
+        {"sph",
+         {{"spacing", s}, {"speed_of_sound", 5.0}, {"viscosity_solver", "implicit"}, {"viscosity_operator", op}}}}},
+      {"time", {{"end", 1.0}}},
+      {"gravity", {0, 0, 0}},
+      {"domain", {{"min", {-0.1, -0.1, -0.1}}, {"max", {0.1, 0.1, 0.1}}}},
+      {"materials", {{"syrup", {{"density", 1000.0}, {"viscosity", 500.0}}}}},
+      {"bodies", json::array({{{"name", "ball"},
+                               {"material", "syrup"},
+                               {"shape", {{"type", "sphere"}, {"center", {0, 0, 0}}, {"radius", 0.04}}}}})}};
+  auto sph = test_support::make_sph(scene);
+  auto& ps = sph->mutable_particles();
+  for (std::size_t i = 0; i < ps.size(); ++i) {
+    const Vec3 x = ps.vector("position")[i];
+    ps.vector("velocity")[i] = Vec3(-omega * x.z(), 0, omega * x.x());  // about the y axis
+  }
+  sph->refresh();
+  auto angular_momentum = [&] {  // L_y per unit particle mass
+    const auto& x = sph->particles().vector("position");
+    const auto& v = sph->particles().vector("velocity");
+    double l = 0;
+    for (std::size_t i = 0; i < x.size(); ++i) l += x[i].z() * v[i].x() - x[i].x() * v[i].z();
+    return l;
+  };
+  const double l0 = angular_momentum();
+  test_support::advance_to(*sph, duration);
+  // Angular velocity about y: L_y / I_yy of the particles.
+  const auto& x = sph->particles().vector("position");
+  double inertia = 0;
+  for (const Vec3& xi : x) inertia += xi.x() * xi.x() + xi.z() * xi.z();
+  const double l = angular_momentum();
+  return {l / l0, -l / inertia / omega};
+}
+}  // namespace
+
+TEST(StressViscosity, ARigidlySpinningViscousBallKeepsItsSpin) {
+  // ν = 0.5 m²/s: the viscous time R²/ν of the 4 cm ball is 3 ms; 0.05 s is
+  // seventeen of them and a tenth of a turn.
+  const Spin stress = spin_after("stress", 0.05), laplacian = spin_after("laplacian", 0.05);
+  std::printf("after 0.05 s: stress form L/L0 %.7f, omega/omega0 %.5f; Laplacian L/L0 %.5f\n", stress.angular_momentum,
+              stress.angular_velocity, laplacian.angular_momentum);
+  EXPECT_NEAR(stress.angular_momentum, 1.0, 1e-6);
+  // The ball widens a little as it spins (ω falls as its inertia grows: measured −0.7%).
+  EXPECT_GT(stress.angular_velocity, 0.99);
+  EXPECT_LT(laplacian.angular_momentum, 0.5);  // the defect the stress form removes
 }

@@ -11,8 +11,22 @@
 // tolerance. A no-slip wall adds dt μ_i V_i G(d) to its particles' diagonal
 // and the same times the wall's velocity to the right-hand side
 // (WallGhostSum): still symmetric positive definite.
+//
+// Stress form (solver.sph.viscosity_operator = stress): the force is the
+// divergence of the deviatoric viscous stress S_i = 2 μ_i dev D_i, with
+// D_i = sym(Σ_j V_j (v_j − v_i) ⊗ C_i ∇_i W_ij) and C_i = M_i^{−T},
+// M_i = Σ_j V_j (x_j − x_i) ⊗ ∇_i W_ij (exact velocity gradients of linear
+// fields, also where a free surface cuts the support). The force is minus the
+// derivative of the dissipation Φ = Σ_i V_i μ_i |dev D_i|²,
+//   f_k = V_k Σ_j V_j (S_k C_k + S_j C_j) ∇_k W_kj,
+// so K = −∂f/∂v is symmetric positive semidefinite and (M + dt K) v = M v*
+// is solved by conjugate gradients over all 3n unknowns at once (the
+// components are coupled). A free surface is traction-free by construction
+// (the natural boundary condition of Φ), which is what lets a viscous or
+// yield-stress column carry its weight.
 #include <fmt/format.h>
 
+#include <Eigen/LU>
 #include <cmath>
 
 #include "core/errors.hpp"
@@ -49,6 +63,10 @@ void SphSolver::phase_viscosity(Real dt) {
     if (no_slip_walls_) d += dt * mu_[i] * vi * wall_drag_[i];  // the wall's row entry (v_wall on the right)
     diag[i] = d;
   });
+  if (setup_.settings.stress_viscosity) {
+    solve_stress_viscosity(dt, diag);
+    return;
+  }
   auto apply = [&](const std::vector<Vec3>& in, std::vector<Vec3>& out) {
     parallel_for(n, [&](std::size_t i) {
       const std::uint32_t* nb = lists_.begin(i);
@@ -83,6 +101,82 @@ void SphSolver::phase_viscosity(Real dt) {
       setup_.settings.implicit_max_iterations, viscosity_pcg_);
   viscosity_iterations_ = result.iterations;
   require_acceptable(result, b_norm2, fmt::format("SPH step {} (t = {:.6g} s): implicit viscosity", steps_, time_),
+                     "solver.sph.implicit_viscosity.max_iterations");
+}
+
+void SphSolver::solve_stress_viscosity(Real dt, const std::vector<Real>& diag) {
+  const std::size_t n = x_.size();
+  const std::size_t stride = lists_.stride();
+  correction_.resize(n);
+  stress_times_correction_.resize(n);
+  // C_i = M_i^{−T}; where the support holds too little to invert M (a particle
+  // nearly alone), the uncorrected gradient.
+  parallel_for(n, [&](std::size_t i) {
+    const std::uint32_t* nb = lists_.begin(i);
+    const std::uint32_t count = lists_.count(i);
+    const float* pd = pair_dwr_.data() + i * stride;
+    Mat3 m = Mat3::Zero();
+    for (std::uint32_t k = 0; k < count; ++k) {
+      const std::uint32_t j = nb[k];
+      const Vec3 xij = pair_offset(i, j);
+      m -= (m_[j] / rho_[j]) * xij * (Real(pd[k]) * xij).transpose();
+    }
+    Mat3 inverse;
+    bool invertible = false;
+    Real det = 0;
+    m.computeInverseAndDetWithCheck(inverse, det, invertible);
+    correction_[i] = invertible && det > 0.05 ? Mat3(inverse.transpose()) : Mat3::Identity();
+  });
+  auto apply = [&](const std::vector<Vec3>& in, std::vector<Vec3>& out) {
+    parallel_for(n, [&](std::size_t i) {
+      const std::uint32_t* nb = lists_.begin(i);
+      const std::uint32_t count = lists_.count(i);
+      const float* pd = pair_dwr_.data() + i * stride;
+      Mat3 grad = Mat3::Zero();
+      for (std::uint32_t k = 0; k < count; ++k) {
+        const std::uint32_t j = nb[k];
+        grad += (m_[j] / rho_[j]) * (in[j] - in[i]) * (Real(pd[k]) * pair_offset(i, j)).transpose();
+      }
+      grad = grad * correction_[i].transpose();  // L_i = Σ V_j (v_j − v_i) (C_i ∇W)ᵀ
+      const Mat3 d = 0.5 * (grad + grad.transpose());
+      const Mat3 s = 2 * mu_[i] * (d - (d.trace() / 3) * Mat3::Identity());
+      stress_times_correction_[i] = s * correction_[i];
+    });
+    parallel_for(n, [&](std::size_t k) {
+      const std::uint32_t* nb = lists_.begin(k);
+      const std::uint32_t count = lists_.count(k);
+      const float* pd = pair_dwr_.data() + k * stride;
+      const Real vk = m_[k] / rho_[k];
+      Vec3 force = Vec3::Zero();
+      for (std::uint32_t q = 0; q < count; ++q) {
+        const std::uint32_t j = nb[q];
+        force += (m_[j] / rho_[j]) * (stress_times_correction_[k] + stress_times_correction_[j]) *
+                 (Real(pd[q]) * pair_offset(k, j));
+      }
+      Vec3 acc = m_[k] * in[k] - dt * vk * force;
+      if (no_slip_walls_) acc += (dt * mu_[k] * vk * wall_drag_[k]) * in[k];
+      out[k] = acc;
+    });
+  };
+  viscosity_rhs_.resize(n);
+  parallel_for(
+      n,
+      [&](std::size_t i) {
+        viscosity_rhs_[i] = m_[i] * v_[i];
+        if (no_slip_walls_) viscosity_rhs_[i] += dt * mu_[i] * (m_[i] / rho_[i]) * wall_drag_velocity_[i];
+      },
+      4096);
+  const Real floor_v = std::max(setup_.gravity.norm(), 1.0) * dt;
+  const Real b_norm2 = pcg_sum<Real>(
+      n, [&](std::size_t i) { return (m_[i] * v_[i]).squaredNorm() + 3 * m_[i] * m_[i] * floor_v * floor_v; });
+  const Real tol = setup_.settings.implicit_tolerance;
+  const Vec3 stop = Vec3::Constant(tol * tol * b_norm2);
+  const PcgResult<Vec3> result = solve_pcg<Vec3, true>(
+      n, apply, [](std::size_t) { return true; }, diag, viscosity_rhs_, v_, stop,
+      setup_.settings.implicit_max_iterations, viscosity_pcg_);
+  viscosity_iterations_ = result.iterations;
+  require_acceptable(result, Vec3(Vec3::Constant(b_norm2)),
+                     fmt::format("SPH step {} (t = {:.6g} s): implicit stress-form viscosity", steps_, time_),
                      "solver.sph.implicit_viscosity.max_iterations");
 }
 
