@@ -100,6 +100,7 @@ void SphSolver::apparent_viscosity(int id) {
   const Material& mat = setup_.materials[std::size_t(id)];
   const Material::YieldFlow& flow = *mat.yield_flow;
   const CurveTemperature at(mat.set, temperature_, peak_temperature_);
+  const bool corrected = setup_.settings.stress_viscosity && correction_.size() == x_.size();
   std::visit(
       [&](const auto& consistency, const auto& yield) {
         parallel_for(
@@ -109,8 +110,11 @@ void SphSolver::apparent_viscosity(int id) {
               const Real t = at(i);
               const HerschelBulkley law{std::max(Real(0), yield(t)), std::max(Real(0), consistency(t)), flow.flow_index,
                                         flow.regularisation};
-              const Mat3 l = velocity_gradient(i);
-              const Mat3 d = 0.5 * (l + l.transpose());
+              Mat3 l = velocity_gradient(i);
+              // The stress form's corrected gradient (exact for linear fields at a free surface).
+              if (corrected) l = l * correction_[i].transpose();
+              Mat3 d = 0.5 * (l + l.transpose());
+              if (corrected) d -= (d.trace() / 3) * Mat3::Identity();
               mu_[i] = law.apparent_viscosity(std::sqrt(2.0 * d.squaredNorm()));
             },
             1024);
