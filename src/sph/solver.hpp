@@ -100,6 +100,7 @@ class SphSolver final : public Solver {
   void phase_xsph();
   void phase_viscosity(Real dt);
   void solve_stress_viscosity(Real dt, const std::vector<Real>& diag);  // phase_viscosity, stress form
+  Vec3 build_viscosity_rhs(Real dt);  // the implicit viscosity's M v*; returns its |b|² per component
   void phase_heat(Real dt);
   void phase_browning(Real dt);
   void phase_water(Real dt);

@@ -78,22 +78,7 @@ void SphSolver::phase_viscosity(Real dt) {
       out[i] = acc;
     });
   };
-  // b = M v*; the solve starts from v* (r = −dt K v*).
-  viscosity_rhs_.resize(n);
-  parallel_for(
-      n,
-      [&](std::size_t i) {
-        viscosity_rhs_[i] = m_[i] * v_[i];
-        if (no_slip_walls_) viscosity_rhs_[i] += dt * mu_[i] * (m_[i] / rho_[i]) * wall_drag_velocity_[i];
-      },
-      4096);
-  // Residuals are measured against the momentum M v* plus the momentum one
-  // step of gravity adds (m g dt per particle): a body nearly at rest then
-  // does not demand a solve far below what its next step changes anyway.
-  const Real floor_v = std::max(setup_.gravity.norm(), 1.0) * dt;
-  const Vec3 b_norm2 = pcg_sum<Vec3>(n, [&](std::size_t i) {
-    return Vec3((m_[i] * v_[i]).cwiseAbs2() + Vec3::Constant(m_[i] * m_[i] * floor_v * floor_v));
-  });
+  const Vec3 b_norm2 = build_viscosity_rhs(dt);
   const Real tol = setup_.settings.implicit_tolerance;
   const Vec3 stop = (tol * tol) * b_norm2;
   const PcgResult<Vec3> result = solve_pcg<Vec3>(
@@ -102,6 +87,27 @@ void SphSolver::phase_viscosity(Real dt) {
   viscosity_iterations_ = result.iterations;
   require_acceptable(result, b_norm2, fmt::format("SPH step {} (t = {:.6g} s): implicit viscosity", steps_, time_),
                      "solver.sph.implicit_viscosity.max_iterations");
+}
+
+// b = M v* (plus the no-slip walls' v_wall terms); the solve starts from v*
+// (r = −dt K v*). Returns |b|² per component for the stopping test: the
+// momentum M v* plus the momentum one step of gravity adds (m g dt per
+// particle), so a body nearly at rest does not demand a solve far below what
+// its next step changes anyway.
+Vec3 SphSolver::build_viscosity_rhs(Real dt) {
+  const std::size_t n = x_.size();
+  viscosity_rhs_.resize(n);
+  parallel_for(
+      n,
+      [&](std::size_t i) {
+        viscosity_rhs_[i] = m_[i] * v_[i];
+        if (no_slip_walls_) viscosity_rhs_[i] += dt * mu_[i] * (m_[i] / rho_[i]) * wall_drag_velocity_[i];
+      },
+      4096);
+  const Real floor_v = std::max(setup_.gravity.norm(), 1.0) * dt;
+  return pcg_sum<Vec3>(n, [&](std::size_t i) {
+    return Vec3((m_[i] * v_[i]).cwiseAbs2() + Vec3::Constant(m_[i] * m_[i] * floor_v * floor_v));
+  });
 }
 
 void SphSolver::solve_stress_viscosity(Real dt, const std::vector<Real>& diag) {
@@ -158,24 +164,14 @@ void SphSolver::solve_stress_viscosity(Real dt, const std::vector<Real>& diag) {
       out[k] = acc;
     });
   };
-  viscosity_rhs_.resize(n);
-  parallel_for(
-      n,
-      [&](std::size_t i) {
-        viscosity_rhs_[i] = m_[i] * v_[i];
-        if (no_slip_walls_) viscosity_rhs_[i] += dt * mu_[i] * (m_[i] / rho_[i]) * wall_drag_velocity_[i];
-      },
-      4096);
-  const Real floor_v = std::max(setup_.gravity.norm(), 1.0) * dt;
-  const Real b_norm2 = pcg_sum<Real>(
-      n, [&](std::size_t i) { return (m_[i] * v_[i]).squaredNorm() + 3 * m_[i] * m_[i] * floor_v * floor_v; });
+  const Vec3 b_norm2 = Vec3::Constant(build_viscosity_rhs(dt).sum());  // one system: the components summed
   const Real tol = setup_.settings.implicit_tolerance;
-  const Vec3 stop = Vec3::Constant(tol * tol * b_norm2);
+  const Vec3 stop = (tol * tol) * b_norm2;
   const PcgResult<Vec3> result = solve_pcg<Vec3, true>(
       n, apply, [](std::size_t) { return true; }, diag, viscosity_rhs_, v_, stop,
       setup_.settings.implicit_max_iterations, viscosity_pcg_);
   viscosity_iterations_ = result.iterations;
-  require_acceptable(result, Vec3(Vec3::Constant(b_norm2)),
+  require_acceptable(result, b_norm2,
                      fmt::format("SPH step {} (t = {:.6g} s): implicit stress-form viscosity", steps_, time_),
                      "solver.sph.implicit_viscosity.max_iterations");
 }
