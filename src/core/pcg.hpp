@@ -3,9 +3,10 @@
 // implicit viscosity (three velocity components side by side) and the MPM
 // implicit heat (one temperature per grid node). `Value` is Real (one system)
 // or Vec3 (three independent systems with the same matrix, each with its own
-// step lengths and stopping test; or, with Coupled, one system of 3n unknowns
-// whose components the matrix couples: the stress-form viscosity). Every sum is a deterministic reduction, so
-// the iterates do not depend on the thread count.
+// step lengths and stopping test; or, with Coupled, one system of 3n
+// unknowns whose components the matrix couples: the stress-form viscosity).
+// Every sum is a deterministic reduction, so the iterates do not depend on
+// the thread count.
 //
 // One failure policy for both: a solve that stops at max_iterations with a
 // residual within 100× the tolerance is accepted (the step goes on; the next

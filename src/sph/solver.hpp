@@ -241,6 +241,7 @@ class SphSolver final : public Solver {
   PcgScratch<Vec3> viscosity_pcg_;             // its conjugate-gradient vectors
   std::vector<Mat3> correction_;               // stress-form viscosity: C_i = M_i^{−T}
   std::vector<Mat3> stress_times_correction_;  // S_i C_i of the current iterate
+  std::vector<Vec3> pair_volume_gradient_;     // stress form: V_j ∇_i W_ij, layout of lists_
   // Per neighbour pair, in the layout of lists_ (computed by the density
   // phase, valid until positions change): W(r) and W'(r)/r.
   std::vector<float> pair_w_, pair_dwr_;

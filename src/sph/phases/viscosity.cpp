@@ -115,17 +115,21 @@ void SphSolver::solve_stress_viscosity(Real dt, const std::vector<Real>& diag) {
   const std::size_t stride = lists_.stride();
   correction_.resize(n);
   stress_times_correction_.resize(n);
-  // C_i = M_i^{−T}; where the support holds too little to invert M (a particle
-  // nearly alone), the uncorrected gradient.
+  pair_volume_gradient_.resize(n * stride);
+  // V_j ∇_i W_ij per pair, once per solve (both passes of every iteration read
+  // it); C_i = M_i^{−T}, and where the support holds too little to invert M (a
+  // particle nearly alone), the uncorrected gradient.
   parallel_for(n, [&](std::size_t i) {
     const std::uint32_t* nb = lists_.begin(i);
     const std::uint32_t count = lists_.count(i);
     const float* pd = pair_dwr_.data() + i * stride;
+    Vec3* g = pair_volume_gradient_.data() + i * stride;
     Mat3 m = Mat3::Zero();
     for (std::uint32_t k = 0; k < count; ++k) {
       const std::uint32_t j = nb[k];
       const Vec3 xij = pair_offset(i, j);
-      m -= (m_[j] / rho_[j]) * xij * (Real(pd[k]) * xij).transpose();
+      g[k] = (m_[j] / rho_[j]) * (Real(pd[k]) * xij);
+      m -= xij * g[k].transpose();
     }
     Mat3 inverse;
     bool invertible = false;
@@ -137,12 +141,9 @@ void SphSolver::solve_stress_viscosity(Real dt, const std::vector<Real>& diag) {
     parallel_for(n, [&](std::size_t i) {
       const std::uint32_t* nb = lists_.begin(i);
       const std::uint32_t count = lists_.count(i);
-      const float* pd = pair_dwr_.data() + i * stride;
+      const Vec3* g = pair_volume_gradient_.data() + i * stride;
       Mat3 grad = Mat3::Zero();
-      for (std::uint32_t k = 0; k < count; ++k) {
-        const std::uint32_t j = nb[k];
-        grad += (m_[j] / rho_[j]) * (in[j] - in[i]) * (Real(pd[k]) * pair_offset(i, j)).transpose();
-      }
+      for (std::uint32_t k = 0; k < count; ++k) grad += (in[nb[k]] - in[i]) * g[k].transpose();
       grad = grad * correction_[i].transpose();  // L_i = Σ V_j (v_j − v_i) (C_i ∇W)ᵀ
       const Mat3 d = 0.5 * (grad + grad.transpose());
       const Mat3 s = 2 * mu_[i] * (d - (d.trace() / 3) * Mat3::Identity());
@@ -151,14 +152,11 @@ void SphSolver::solve_stress_viscosity(Real dt, const std::vector<Real>& diag) {
     parallel_for(n, [&](std::size_t k) {
       const std::uint32_t* nb = lists_.begin(k);
       const std::uint32_t count = lists_.count(k);
-      const float* pd = pair_dwr_.data() + k * stride;
+      const Vec3* g = pair_volume_gradient_.data() + k * stride;
       const Real vk = m_[k] / rho_[k];
       Vec3 force = Vec3::Zero();
-      for (std::uint32_t q = 0; q < count; ++q) {
-        const std::uint32_t j = nb[q];
-        force += (m_[j] / rho_[j]) * (stress_times_correction_[k] + stress_times_correction_[j]) *
-                 (Real(pd[q]) * pair_offset(k, j));
-      }
+      for (std::uint32_t q = 0; q < count; ++q)
+        force += (stress_times_correction_[k] + stress_times_correction_[nb[q]]) * g[q];
       Vec3 acc = m_[k] * in[k] - dt * vk * force;
       if (no_slip_walls_) acc += (dt * mu_[k] * vk * wall_drag_[k]) * in[k];
       out[k] = acc;
