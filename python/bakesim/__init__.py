@@ -28,6 +28,13 @@ __all__ = [
 ]
 
 
+def _input_error(where, detail):
+    """An InputError as the library raises it: "where: detail", with .where and .detail."""
+    error = InputError(f"{where}: {detail}")
+    error.where, error.detail = where, detail
+    return error
+
+
 def _as_scene(scene, overrides=None, preview=False):
     if isinstance(scene, Scene):
         if overrides or preview:
@@ -135,8 +142,8 @@ class Simulation:
             sim._history = [[stats[c][i] for c in columns] for i in range(len(stats[columns[0]]))] if columns else []
             return sim
         if scene is None:
-            raise InputError(f"{path}: a checkpoint file needs the scene it was made from: "
-                             "Simulation.resume(path, scene=...)")
+            raise _input_error(path, "a checkpoint file needs the scene it was made from: "
+                                     "Simulation.resume(path, scene=...)")
         return cls(None, _native=_bakesim.Simulation._resume_file(path, _as_scene(scene), threads, quiet))
 
     # --- stepping -----------------------------------------------------------

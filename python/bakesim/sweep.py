@@ -19,6 +19,7 @@ import os as _os
 import numpy as _np
 
 from . import _bakesim
+from . import _input_error  # bakesim defines it before it imports this module
 
 
 def _value_text(value):
@@ -31,7 +32,7 @@ def _axis(path, values):
         values = [values]
     texts = [_value_text(v) for v in values]
     if not texts:
-        raise _bakesim.InputError(f"sweep grid: {path} has no values")
+        raise _input_error(f"sweep grid: {path}", "has no values")
     return path + "=" + ",".join(texts)
 
 
@@ -136,7 +137,7 @@ def sweep(scene, grid, client=None, out=None, threads=1, end_time=None, preview=
 
     axes = [_axis(path, values) for path, values in grid.items()] + [str(s) for s in sets]
     if not axes:
-        raise _bakesim.InputError("sweep: the grid is empty")
+        raise _input_error("sweep", "the grid is empty")
     points, axis_names = _bakesim._sweep_points(axes)
     if isinstance(scene, dict):
         source, name = scene, scene.get("name", "scene")

@@ -193,8 +193,10 @@ class Checkpoints(Base):
         half.run(until=0.2)
         ckpt = os.path.join(self.tmp, "half.ckpt")
         half.checkpoint(ckpt)
-        with self.assertRaises(bakesim.InputError):
+        with self.assertRaises(bakesim.InputError) as c:
             bakesim.Simulation.resume(ckpt)  # a file alone does not say its scene
+        self.assertEqual(c.exception.where, ckpt)
+        self.assertIn("needs the scene", c.exception.detail)
         with self.assertRaises(bakesim.InputError):
             bakesim.Simulation.resume(ckpt, scene=small_cookie(0.4, {"environment.air_temperature": 200}))
         resumed = bakesim.Simulation.resume(ckpt, scene=scene, threads=2)

@@ -30,7 +30,7 @@ FunnelOutcome run(const std::string& scene_file, double end_time) {
   std::stringstream ss;
   ss << in.rdbuf();
   auto doc = nlohmann::json::parse(ss.str());
-  doc["solver"]["sph"]["spacing"] = 0.006;  // coarser than the scene, for CI
+  doc["solver"]["sph"]["spacing"] = 0.007;  // coarser than the scene, for CI
   Scene scene = parse_scene(doc.dump(), scene_file, dir);
   sph::SphSolver solver(scene.sph);
   FunnelOutcome out;

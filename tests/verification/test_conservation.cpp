@@ -11,6 +11,7 @@
 #include "core/errors.hpp"
 
 #include "helpers.hpp"
+#include "support/threads.hpp"
 
 using namespace bakesim;
 using nlohmann::json;
@@ -78,6 +79,7 @@ INSTANTIATE_TEST_SUITE_P(Smoothing, ConservationBySmoothing, ::testing::Values(f
 class DeterminismBySmoothing : public ::testing::TestWithParam<bool> {};
 
 TEST_P(DeterminismBySmoothing, SameResultOnOneAndTwoThreads) {
+  const test_support::ThreadLimitLifted all_threads;  // compares thread counts
   std::vector<Vec3> result[2];
   for (int t = 1; t <= 2; ++t) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(t));

@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <tuple>
 
 #include "helpers.hpp"
 
@@ -53,3 +55,74 @@ TEST(DamBreak, SurgeFrontFollowsMartinAndMoyce) {
   EXPECT_GE(compared, 5);
   RecordProperty("worst_relative_error", std::to_string(worst));
 }
+
+namespace {
+
+// The same tank in MPM: water as a von Mises material with no yield stress
+// (its deviator relaxes to the viscous stress of μ = η/2 = 1 mPa s each step)
+// and an elastic bulk stiff enough that the column barely compresses: with
+// E = 0.2 MPa and ν = 0.45 the bulk modulus is 0.67 MPa, a sound speed of
+// 26 m/s, ten times the surge's ~2.4 m/s. Quasi-2D: periodic along z, four
+// cells deep. The domain faces are free-slip walls.
+json mpm_dam_break(int cells_per_a) {
+  const double a = 0.146, dx = a / cells_per_a;
+  return {{"solver", {{"type", "mpm"}, {"mpm", {{"cell_size", dx}, {"heat", "off"}, {"model", "baseline"}}}}},
+          {"time", {{"end", 0.3}}},
+          {"domain", {{"min", {0, 0, 0}}, {"max", {4 * a, 3 * a, 4 * dx}}, {"periodic", {"z"}}}},
+          {"materials",
+           {{"water",
+             {{"density", 1000.0},
+              {"youngs_modulus", 2e5},
+              {"poisson_ratio", 0.45},
+              {"plasticity", {{"model", "von_mises"}, {"yield_stress", 0.0}, {"viscosity", 2e-3}}}}}}},
+          {"bodies",
+           {{{"name", "column"},
+             {"material", "water"},
+             {"shape", {{"type", "box"}, {"min", {0, 0, 0}}, {"max", {a, 2 * a, 4 * dx}}}}}}}};
+}
+
+}  // namespace
+
+// Issue 26: the dam break in MPM, against the same Martin & Moyce points. The
+// front is the largest material-point x plus the quarter cell each point
+// stands for (points start half a cell apart), so Z = 1 at rest. Measured
+// (docs/validation.md): the MPM front runs ahead of the experiment, worst
+// +14.5% at a/10 and +20.0% at a/20 (SPH: +8.5% at a/20), and refining does
+// not bring it closer: an open defect of issue 26. The bound, 25%, catches
+// a front that breaks away (a wall that leaks, material that stops feeling
+// the floor) without claiming the agreement the issue asks for.
+class MpmDamBreak : public ::testing::TestWithParam<std::tuple<int, double>> {};
+
+TEST_P(MpmDamBreak, SurgeFrontFollowsMartinAndMoyce) {
+  const auto [cells_per_a, tolerance] = GetParam();
+  const double a = 0.146, g = 9.81, dx = a / cells_per_a;
+  const double t_scale = std::sqrt(2 * g / a);
+  auto solver = test_support::make_mpm(mpm_dam_break(cells_per_a));
+  const std::size_t count = solver->particles().size();
+  const auto data = test_support::read_csv(std::string(BAKESIM_VALIDATION_DIR) + "/dambreak_martin_moyce1952.csv");
+  std::vector<std::pair<double, double>> points;
+  for (const auto& row : data)
+    if (row[1] >= 0.5 && row[1] <= 2.5) points.emplace_back(row[1], row[2]);
+  std::sort(points.begin(), points.end());
+  ASSERT_GE(points.size(), 5u);
+  double worst = 0;
+  for (const auto& [T, Z] : points) {
+    test_support::advance_to(*solver, T / t_scale);
+    double front = 0;
+    for (const Vec3& x : solver->particles().vector("position")) front = std::max(front, x.x());
+    const double z_sim = (front + 0.25 * dx) / a;
+    const double err = (z_sim - Z) / Z;
+    std::printf("MPM a/%d: T %.3f Z measured %.3f simulated %.3f (%+.1f%%)\n", cells_per_a, T, Z, z_sim, 100 * err);
+    if (std::abs(err) > std::abs(worst)) worst = err;
+    EXPECT_LT(std::abs(err), tolerance) << "T = " << T << ": simulated Z = " << z_sim << ", Martin & Moyce Z = " << Z;
+  }
+  EXPECT_EQ(solver->particles().size(), count);
+  RecordProperty("worst_relative_error", std::to_string(worst));
+}
+
+INSTANTIATE_TEST_SUITE_P(Cells, MpmDamBreak, ::testing::Values(std::make_tuple(10, 0.25)),
+                         [](const auto& info) { return "a_over_" + std::to_string(std::get<0>(info.param)); });
+// The finer cases of the convergence study (15 s and 2 minutes on 2 threads):
+// --gtest_also_run_disabled_tests.
+INSTANTIATE_TEST_SUITE_P(DISABLED_Fine, MpmDamBreak, ::testing::Values(std::make_tuple(20, 0.25), std::make_tuple(40, 0.25)),
+                         [](const auto& info) { return "a_over_" + std::to_string(std::get<0>(info.param)); });

@@ -17,6 +17,7 @@
 
 #include "core/errors.hpp"
 #include "helpers.hpp"
+#include "support/threads.hpp"
 
 using namespace bakesim;
 using nlohmann::json;
@@ -172,6 +173,7 @@ TEST(Mpm, VonMisesColumnStandsAboveItsYieldStressAndSlumpsBelow) {
 }
 
 TEST(Mpm, SameResultOnOneAndTwoThreads) {
+  const test_support::ThreadLimitLifted all_threads;  // compares thread counts
   json doc =
       base_scene(0.02,
                  {{"jelly",

@@ -15,6 +15,7 @@
 
 #include "core/parallel.hpp"
 #include "helpers.hpp"
+#include "support/threads.hpp"
 
 using namespace bakesim;
 using nlohmann::json;
@@ -203,6 +204,7 @@ TEST(MpmBaking, Co2GeneratedAtAHeldTemperatureMatchesTheRateLawAndRaisesTheBlock
 }
 
 TEST(MpmBaking, SameBakeOnOneAndTwoThreads) {
+  const test_support::ThreadLimitLifted all_threads;  // compares thread counts
   // The full model (heat, water, gas, temperature-dependent Cam-clay) on the
   // medium cookie: positions, temperatures and water identical bit for bit.
   std::ifstream in(std::string(BAKESIM_SOURCE_DIR) + "/scenes/cookie.json");

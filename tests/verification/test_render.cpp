@@ -12,6 +12,7 @@
 #include "render/plot.hpp"
 #include "render/render.hpp"
 #include "geometry/collider_mesh.hpp"
+#include "support/threads.hpp"
 
 using namespace bakesim;
 using namespace bakesim::render;
@@ -67,6 +68,7 @@ TEST(Render, HotSideOfAColouredSphereIsBrowner) {
 }
 
 TEST(Render, ParticlesWithAColourBarAndTheSameImageOnAnyThreadCount) {
+  const test_support::ThreadLimitLifted all_threads;  // compares thread counts
   ParticleView pv;
   for (int i = 0; i < 200; ++i) {
     pv.position.push_back(Vec3(0.001 * (i % 20), 0.001 * (i / 20), 0));
