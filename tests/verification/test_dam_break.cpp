@@ -27,19 +27,22 @@ json dam_break(double spacing) {
              {"shape", {{"type", "box"}, {"min", {0, 0, 0}}, {"max", {a, 2 * a, 0.5 * a}}}}}}}};
 }
 
+// (T, Z) of Martin & Moyce (1952), both column sizes, T in [0.5, 2.5], in time order.
+std::vector<std::pair<double, double>> martin_moyce_points() {
+  std::vector<std::pair<double, double>> points;
+  for (const auto& row : test_support::read_csv(std::string(BAKESIM_VALIDATION_DIR) + "/dambreak_martin_moyce1952.csv"))
+    if (row[1] >= 0.5 && row[1] <= 2.5) points.emplace_back(row[1], row[2]);
+  std::sort(points.begin(), points.end());
+  return points;
+}
+
 }  // namespace
 
 TEST(DamBreak, SurgeFrontFollowsMartinAndMoyce) {
   const double a = 0.146, g = 9.81;
   const double t_scale = std::sqrt(2 * g / a);
   auto solver = test_support::make_sph(dam_break(a / 20));
-  const auto data = test_support::read_csv(std::string(BAKESIM_VALIDATION_DIR) + "/dambreak_martin_moyce1952.csv");
-  ASSERT_FALSE(data.empty());
-  // Both column sizes of the experiment, in time order.
-  std::vector<std::pair<double, double>> points;
-  for (const auto& row : data)
-    if (row[1] >= 0.5 && row[1] <= 2.5) points.emplace_back(row[1], row[2]);
-  std::sort(points.begin(), points.end());
+  const auto points = martin_moyce_points();
   int compared = 0;
   double worst = 0;
   for (const auto& [T, Z] : points) {
@@ -99,11 +102,7 @@ TEST_P(MpmDamBreak, SurgeFrontFollowsMartinAndMoyce) {
   const double t_scale = std::sqrt(2 * g / a);
   auto solver = test_support::make_mpm(mpm_dam_break(cells_per_a));
   const std::size_t count = solver->particles().size();
-  const auto data = test_support::read_csv(std::string(BAKESIM_VALIDATION_DIR) + "/dambreak_martin_moyce1952.csv");
-  std::vector<std::pair<double, double>> points;
-  for (const auto& row : data)
-    if (row[1] >= 0.5 && row[1] <= 2.5) points.emplace_back(row[1], row[2]);
-  std::sort(points.begin(), points.end());
+  const auto points = martin_moyce_points();
   ASSERT_GE(points.size(), 5u);
   double worst = 0;
   for (const auto& [T, Z] : points) {
