@@ -14,6 +14,13 @@ namespace {
 // particle as surface whatever its colour gradient.
 constexpr std::uint32_t kSparseNeighbours = 6;
 
+// Half-angle of the scan cone: a colour-field candidate with a neighbour
+// within this angle of its outward normal has material above it and is not
+// surface. cos 40°: on a lattice (faces, edges, the staircase of a curved
+// face) the nearest neighbour off the normal sits at 45° or more, so every
+// outer-layer particle stays surface.
+constexpr Real kScanConeCos = 0.766044443118978;
+
 }  // namespace
 
 // Colour gradient ∇C_i = Σ V_j ∇W_ij (Eq 3.28; points into the fluid) and the
@@ -40,11 +47,34 @@ void SphSolver::phase_surface() {
     const Real threshold = s.surface_colour_threshold;
     // A particle with almost no neighbours (blown off, or at the tip of an
     // expanded bubble) has a vanishing gradient but is surface all the same.
+    // The colour test alone also flags the crumb of a risen dough: once the
+    // bubbles have grown, a support holds fewer and unevenly spread
+    // neighbours, |∇C| h is large deep inside, and over half of the particles
+    // two spacings or more under the crust exchanged heat with the oven air
+    // (issue 20). A candidate keeps its flag only if no neighbour lies in the
+    // cone around its outward normal −∇C (the scan region of Marrone et al.
+    // 2010, CMAME 199, reduced to its cone): a particle with material above
+    // it is not on the surface.
     parallel_for(
         n,
         [&](std::size_t i) {
-          surface_[i] =
-              colour_grad_[i].norm() * smoothing_[i] >= threshold || lists_.count(i) < kSparseNeighbours ? 1 : 0;
+          const std::uint32_t count = lists_.count(i);
+          if (count < kSparseNeighbours) {
+            surface_[i] = 1;
+            return;
+          }
+          const Real g = colour_grad_[i].norm();
+          if (g * smoothing_[i] < threshold) {
+            surface_[i] = 0;
+            return;
+          }
+          const Vec3 outward = -colour_grad_[i] / g;
+          const std::uint32_t* nb = lists_.begin(i);
+          const float* r = lists_.distances(i);
+          bool covered = false;
+          for (std::uint32_t k = 0; k < count && !covered; ++k)
+            covered = -pair_offset(i, nb[k]).dot(outward) > kScanConeCos * Real(r[k]);
+          surface_[i] = covered ? 0 : 1;
         },
         4096);
   } else if (steps_ % s.surface_every == 0) {
