@@ -2,9 +2,9 @@
 //
 // ctest runs as many tests at once as the machine has cores, and each long
 // bake would otherwise start a worker per core: two bakes on two cores then
-// share four threads, and TBB's waiting and the shared caches cost more than
-// the second thread gains (measured on a 2-core machine: an SPH cookie bake
-// runs at 70% parallel efficiency, an MPM cookie at 85%). tests/CMakeLists.txt
+// share four threads, where one each needs no synchronisation (measured on a
+// 2-core machine alone: an SPH cookie bake runs at 70% parallel efficiency on
+// two threads, an MPM cookie at 85%). tests/CMakeLists.txt
 // sets BAKESIM_TEST_THREADS=1 on the GoogleTest binaries; the tests that
 // compare one thread against two lift it (support/threads.hpp).
 #include <gtest/gtest.h>
