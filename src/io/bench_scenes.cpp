@@ -8,7 +8,7 @@
 
 namespace bakesim {
 
-std::string dam_break_scene_json(long particles, const std::string& search) {
+std::string dam_break_scene_json(long particles, const std::string& search, double skin) {
   // Column a × 2a × depth, depth = a/2 (thin 3D slab of the 2D experiment).
   const double a = 0.146;
   const double depth = 0.5 * a;
@@ -16,14 +16,14 @@ std::string dam_break_scene_json(long particles, const std::string& search) {
   const double spacing = std::cbrt(volume / double(particles));
   return fmt::format(R"({{
   "name": "dam-break-bench",
-  "solver": {{"type": "sph", "sph": {{"spacing": {spacing}, "neighbour_search": "{search}"}}}},
+  "solver": {{"type": "sph", "sph": {{"spacing": {spacing}, "neighbour_search": "{search}", "neighbour_skin": {skin}}}}},
   "time": {{"end": 1.0, "fps": 1}},
   "domain": {{"min": [0, 0, 0], "max": [{lx}, {ly}, {depth}]}},
   "materials": {{"water": {{"density": 1000, "viscosity": 0.001, "xsph": 0.1}}}},
   "bodies": [{{"name": "column", "material": "water",
               "shape": {{"type": "box", "min": [0, 0, 0], "max": [{a}, {h}, {depth}]}}}}]
 }})",
-                     fmt::arg("spacing", spacing), fmt::arg("search", search), fmt::arg("lx", 4 * a),
+                     fmt::arg("spacing", spacing), fmt::arg("search", search), fmt::arg("skin", skin), fmt::arg("lx", 4 * a),
                      fmt::arg("ly", 3 * a), fmt::arg("depth", depth), fmt::arg("a", a), fmt::arg("h", 2 * a));
 }
 

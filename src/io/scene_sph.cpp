@@ -66,6 +66,7 @@ sph::Settings build_settings(const json& doc) {
   st.spacing = sj["spacing"].get<double>();
   st.smoothing_ratio = sj["smoothing_ratio"].get<double>();
   st.search = sph::parse_neighbour_method(sj["neighbour_search"].get<std::string>());
+  st.neighbour_skin = sj["neighbour_skin"].get<double>();
   st.clamp_negative_pressure = sj["negative_pressure"].get<std::string>() == "clamp";
   st.wall_density_correction = sj["wall_correction"].get<bool>();
   st.av_alpha = sj["artificial_viscosity"]["alpha"].get<double>();

@@ -154,7 +154,8 @@ struct ForwardingResultSet {
 };
 }  // namespace
 
-void NeighbourSearch::find(const std::vector<Vec3>& x, const std::vector<Real>& support, NeighbourLists& lists) {
+void NeighbourSearch::find(const std::vector<Vec3>& x, const std::vector<Real>& support, NeighbourLists& lists,
+                           Real skin) {
   const std::size_t n = x.size();
   Real h_max = 0;
   for (Real h : support) h_max = std::max(h_max, h);
@@ -167,10 +168,10 @@ void NeighbourSearch::find(const std::vector<Vec3>& x, const std::vector<Real>& 
   fill(n, lists, [&](std::size_t i, auto&& emit) {
     const Vec3 xi = x[i];
     const Real hi = support[i];
-    // No pair reaches beyond (h_i + h_max)/2.
-    const Real radius = 0.5 * (hi + h_max);
+    // No pair reaches beyond (h_i + h_max)/2 + skin.
+    const Real radius = 0.5 * (hi + h_max) + skin;
     auto test = [&](std::uint32_t j, Real d2) {
-      const Real hij = 0.5 * (hi + support[j]);
+      const Real hij = 0.5 * (hi + support[j]) + skin;
       if (d2 < hij * hij && j != i) emit(j, d2);
     };
     for_each_image(xi, radius, [&](const Vec3& shift) {
@@ -186,8 +187,9 @@ void NeighbourSearch::find(const std::vector<Vec3>& x, const std::vector<Real>& 
   if (tree || periodicity_.any()) sort_lists(lists);
 }
 
-void NeighbourSearch::find(const std::vector<Vec3>& x, NeighbourLists& lists) {
-  const Real h2 = h_ * h_;
+void NeighbourSearch::find(const std::vector<Vec3>& x, NeighbourLists& lists, Real skin) {
+  const Real reach = h_ + skin;
+  const Real h2 = reach * reach;
   const std::size_t n = x.size();
   if (method_ == NeighbourMethod::grid) {
     fill(n, lists, [&](std::size_t i, auto&& emit) {
@@ -198,9 +200,9 @@ void NeighbourSearch::find(const std::vector<Vec3>& x, NeighbourLists& lists) {
       std::uint32_t buf[kBuf];
       Real buf_d2[kBuf];
       std::size_t c = 0;
-      for_each_image(xi, h_, [&](const Vec3& shift) {
+      for_each_image(xi, reach, [&](const Vec3& shift) {
         const Vec3 q = xi + shift;
-        grid_.for_each_within(q, h_, [&](std::uint32_t j) {
+        grid_.for_each_within(q, reach, [&](std::uint32_t j) {
           const Vec3 d = q - x[j];
           const Real d2 = d.squaredNorm();
           buf[c] = j;
@@ -220,7 +222,7 @@ void NeighbourSearch::find(const std::vector<Vec3>& x, NeighbourLists& lists) {
     KdTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
     tree.buildIndex();
     fill(n, lists, [&](std::size_t i, auto&& emit) {
-      for_each_image(x[i], h_, [&](const Vec3& shift) {
+      for_each_image(x[i], reach, [&](const Vec3& shift) {
         const Vec3 q = x[i] + shift;
         ForwardingResultSet<std::remove_reference_t<decltype(emit)>> rs{h2, static_cast<std::uint32_t>(i), emit};
         tree.findNeighbors(rs, q.data(), nanoflann::SearchParams(32, 0, false));
@@ -228,6 +230,62 @@ void NeighbourSearch::find(const std::vector<Vec3>& x, NeighbourLists& lists) {
     });
     sort_lists(lists);
   }
+}
+
+template <class Within>
+void NeighbourSearch::keep(const NeighbourLists& candidates, const std::vector<Vec3>& x, NeighbourLists& lists,
+                           Within&& within) const {
+  const std::size_t n = candidates.size();
+  const std::size_t stride = candidates.stride_;
+  lists.stride_ = stride;
+  lists.count_.resize(n);
+  lists.ids_.resize(n * stride);
+  lists.dist_.resize(n * stride);
+  const bool periodic = periodicity_.any();
+  parallel_blocks(n, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) {
+      const std::uint32_t* cand = candidates.begin(i);
+      const std::uint32_t count = candidates.count_[i];
+      std::uint32_t* out = lists.ids_.data() + i * stride;
+      float* out_d = lists.dist_.data() + i * stride;
+      const Vec3 xi = x[i];
+      // Branch-free compaction (most candidates are kept, but which ones is
+      // random), in chunks whose kept squared distances wait in a buffer for
+      // one vectorised square root.
+      constexpr std::uint32_t kChunk = 128;
+      Real kept_d2[kChunk];
+      std::uint32_t c = 0;
+      for (std::uint32_t k0 = 0; k0 < count; k0 += kChunk) {
+        const std::uint32_t k1 = std::min(count, k0 + kChunk);
+        std::uint32_t kept = 0;
+        for (std::uint32_t k = k0; k < k1; ++k) {
+          const std::uint32_t j = cand[k];
+          const Vec3 d = periodic ? periodicity_.nearest_image(xi - x[j]) : (xi - x[j]).eval();
+          const Real d2 = d.squaredNorm();
+          out[c + kept] = j;
+          kept_d2[kept] = d2;
+          kept += static_cast<std::uint32_t>(within(i, j, d2));
+        }
+        for (std::uint32_t k = 0; k < kept; ++k) out_d[c + k] = static_cast<float>(std::sqrt(kept_d2[k]));
+        c += kept;
+      }
+      lists.count_[i] = c;
+    }
+  });
+}
+
+void NeighbourSearch::keep_within(const NeighbourLists& candidates, const std::vector<Vec3>& x,
+                                  NeighbourLists& lists) const {
+  const Real h2 = h_ * h_;
+  keep(candidates, x, lists, [h2](std::size_t, std::uint32_t, Real d2) { return d2 < h2; });
+}
+
+void NeighbourSearch::keep_within(const NeighbourLists& candidates, const std::vector<Vec3>& x,
+                                  const std::vector<Real>& support, NeighbourLists& lists) const {
+  keep(candidates, x, lists, [&support](std::size_t i, std::uint32_t j, Real d2) {
+    const Real hij = 0.5 * (support[i] + support[j]);
+    return d2 < hij * hij;
+  });
 }
 
 // Sorts each list (with its distances) so the summation order of the kd-tree

@@ -80,11 +80,21 @@ class NeighbourSearch {
   // Computes the order that sorts particles by cell (both methods use it for
   // memory locality). Call, permute the particles, then call find().
   void sort_order(const std::vector<Vec3>& x, std::vector<std::uint32_t>& order);
-  // Fills lists for positions already permuted by the last sort_order().
-  void find(const std::vector<Vec3>& x, NeighbourLists& lists);
+  // Fills lists for positions already permuted by the last sort_order():
+  // the pairs closer than the support plus `skin` (0: the neighbours).
+  void find(const std::vector<Vec3>& x, NeighbourLists& lists, Real skin = 0);
   // Variable support (Eq 3.56): j is a neighbour of i when |x_i − x_j| <
-  // (h_i + h_j)/2, so lists stay symmetric. `support` is permuted with x.
-  void find(const std::vector<Vec3>& x, const std::vector<Real>& support, NeighbourLists& lists);
+  // (h_i + h_j)/2 (+ skin), so lists stay symmetric. `support` is permuted with x.
+  void find(const std::vector<Vec3>& x, const std::vector<Real>& support, NeighbourLists& lists, Real skin = 0);
+  // Verlet lists (Verlet 1967): of candidates found with a skin on earlier
+  // positions, keeps those closer than the support now, in candidate order
+  // (so lists stay in ascending index order), with their distances. Exact
+  // while every pair that is a neighbour now was a candidate: while twice the
+  // largest displacement since the search plus the largest growth of a
+  // support stays below the skin (the caller checks).
+  void keep_within(const NeighbourLists& candidates, const std::vector<Vec3>& x, NeighbourLists& lists) const;
+  void keep_within(const NeighbourLists& candidates, const std::vector<Vec3>& x, const std::vector<Real>& support,
+                   NeighbourLists& lists) const;
   const CellGrid& grid() const { return grid_; }
   Real support() const { return h_; }
   // Along periodic axes, pairs are also found across the box faces (their
@@ -98,6 +108,9 @@ class NeighbourSearch {
  private:
   template <class Query>
   void fill(std::size_t n, NeighbourLists& lists, Query&& query);
+  template <class Within>
+  void keep(const NeighbourLists& candidates, const std::vector<Vec3>& x, NeighbourLists& lists,
+            Within&& within) const;
   static void sort_lists(NeighbourLists& lists);
   NeighbourMethod method_;
   Real h_;

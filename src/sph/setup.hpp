@@ -84,6 +84,9 @@ struct Settings {
   Real speed_of_sound = 20.0;  // c, m/s; Tait B = ρ0 c² / γ
   Real gamma = 7.0;
   NeighbourMethod search = NeighbourMethod::grid;
+  // Verlet skin as a fraction of the support h: candidates within h(1 + skin)
+  // are searched only when particles have moved far enough (0: every step).
+  Real neighbour_skin = 0.2;
   bool clamp_negative_pressure = true;
   bool wall_density_correction = true;
   Real av_alpha = 0.0, av_beta = 1.0, av_epsilon = 0.01;  // Eq 3.36–3.37

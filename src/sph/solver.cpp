@@ -98,7 +98,9 @@ SphSolver::SphSolver(Setup setup)
       material_(particles_.add_int("material_id")),
       body_(particles_.add_int("body_id")),
       id_(particles_.add_int("id")),
-      ncount_(particles_.add_int("neighbours")) {
+      ncount_(particles_.add_int("neighbours")),
+      anchor_(particles_.add_vector("neighbour_anchor", "m", false)),
+      anchor_support_(particles_.add_scalar("neighbour_anchor_support", "m", false)) {
   const Settings& s = setup_.settings;
   if (setup_.materials.empty()) throw InputError("materials", "no materials defined");
   for (const Material& m : setup_.materials) {
@@ -136,6 +138,13 @@ SphSolver::SphSolver(Setup setup)
   periodicity_ = setup_.periodicity();
   periodic_ = periodicity_.any();
   search_.set_periodicity(periodicity_);
+  // The candidate search reaches h_max + skin, which along a periodic axis
+  // must stay under half the box (each pair found once).
+  skin_ = s.neighbour_skin * h_;
+  const Real h_cap = adaptive_ ? s.adaptive.max_ratio * h_ : h_;
+  for (int k = 0; k < 3; ++k)
+    if (periodicity_.along(k)) skin_ = std::min(skin_, 0.45 * (setup_.domain.extent()[k] - 2.0 * h_cap));
+  skin_ = std::max<Real>(skin_, 0);
   walls_.push_back(Collider{"domain", InsideBoxCollider{setup_.domain, setup_.periodic}, setup_.domain_contact,
                             RigidMotion{}, std::nullopt});
   for (const Collider& c : setup_.colliders) (is_mesh(c) ? meshes_ : walls_).push_back(c);
@@ -477,9 +486,10 @@ std::vector<Real> SphSolver::sample(const Vec3& x, const std::vector<std::string
   Real wsum = 0.0;
   const Real h2 = h_ * h_;
   const Vec3 at = periodic_ ? periodicity_.wrap(x) : x;
-  search_.for_each_image(at, h_, [&](const Vec3& shift) {
+  // The grid holds the anchors: a particle within h now lies within h + skin/2 of them.
+  search_.for_each_image(at, h_ + skin_, [&](const Vec3& shift) {
     const Vec3 q = at + shift;
-    search_.grid().for_each_within(q, h_, [&](std::uint32_t j) {
+    search_.grid().for_each_within(q, h_ + skin_, [&](std::uint32_t j) {
       const Real r2 = (x_[j] - q).squaredNorm();
       if (r2 >= h2) return;
       const Real w = m_[j] / rho_[j] * kernel_.w(std::sqrt(r2));
@@ -534,7 +544,10 @@ void SphSolver::restore_state(const std::vector<std::pair<std::string, double>>&
       water_budget_.latent_out = value;
   }
   // Neighbour lists, pair kernels and per-step scratch are rebuilt by the next
-  // step, which starts by sorting and searching.
+  // step: its candidates from the restored anchors, as the uninterrupted run
+  // had them.
+  candidates_valid_ = false;
+  anchors_valid_ = true;
 }
 
 }  // namespace bakesim::sph

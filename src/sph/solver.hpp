@@ -66,6 +66,8 @@ class SphSolver final : public Solver {
   Real support() const { return h_; }
   Real particle_mass(int material) const;
   const NeighbourLists& neighbours() const { return lists_; }
+  // Neighbour searches so far (with a Verlet skin, fewer than the steps).
+  long neighbour_searches() const { return searches_; }
   long steps() const { return steps_; }
   Real bake_time() const { return setup_.oven.bake_time(time_); }
   bool implicit_viscosity() const { return implicit_viscosity_; }
@@ -88,6 +90,9 @@ class SphSolver final : public Solver {
   void seed_particles();
   void check_initial_overlaps() const;
   void phase_neighbours();
+  void refresh_verlet_lists();
+  // Whether some pair may have come within reach since the anchors (Verlet).
+  bool moved_past_skin() const;
   void phase_density();
   void phase_surface();
   void phase_stress(Real dt);
@@ -119,8 +124,9 @@ class SphSolver final : public Solver {
   // within `range` of x, in world coordinates: a moving collider is queried
   // in its rest pose. Static colliders skip the transform (and report zero velocity).
   // x_i − x_j, the nearest image's along periodic axes.
-  Vec3 pair_offset(std::size_t i, std::size_t j) const {
-    const Vec3 d = x_[i] - x_[j];
+  Vec3 pair_offset(std::size_t i, std::size_t j) const { return pair_offset_of(x_[i], x_[j]); }
+  Vec3 pair_offset_of(const Vec3& a, const Vec3& b) const {
+    const Vec3 d = a - b;
     return periodic_ ? periodicity_.nearest_image(d) : d;
   }
   // Calls fn(distance scaled to the reference support, h0/h_i, wall contact,
@@ -159,6 +165,13 @@ class SphSolver final : public Solver {
   WallKernelShare wall_share_;
   NeighbourSearch search_;
   NeighbourLists lists_;
+  // Verlet lists (phase neighbours): the pairs within the support plus the
+  // skin at the anchors, the positions of the last search.
+  NeighbourLists candidates_;
+  Real skin_ = 0;                  // m
+  bool candidates_valid_ = false;  // false at the start and after a restore
+  bool anchors_valid_ = false;     // false at the start: the first step searches
+  long searches_ = 0;
   std::vector<Collider> walls_;        // analytic colliders incl. the domain box
   std::vector<Collider> meshes_;       // mesh colliders
   std::vector<RigidPose> wall_poses_;  // per analytic collider, at the end of the step (moving ones)
@@ -221,6 +234,10 @@ class SphSolver final : public Solver {
   std::vector<std::int32_t>& body_;
   std::vector<std::int32_t>& id_;
   std::vector<std::int32_t>& ncount_;
+  // Positions and supports at the last neighbour search; in the registry (not
+  // exported) so that a checkpoint resumes with the same lists and order.
+  std::vector<Vec3>& anchor_;
+  std::vector<Real>& anchor_support_;
   std::vector<std::uint32_t> order_;
   // Per-step scratch, valid only within the phases that fill them (not in
   // the registry, so sorting does not move them).

@@ -112,6 +112,88 @@ TEST_P(NeighbourMethods, VariableSupportMatchesBruteForce) {
   }
 }
 
+// Verlet lists: candidates found with a skin s, then every point moved by less
+// than s/2 (wrapped into the periodic box), keep exactly the pairs within h now,
+// in ascending order, at their nearest-image distances; moved further, pairs
+// are missed (the solver searches again before that).
+TEST_P(NeighbourMethods, VerletListsKeepThePairsWithinTheSupportWhileMovesStayUnderHalfTheSkin) {
+  const Aabb box{Vec3(0, 0, 0), Vec3(0.8, 0.6, 0.5)};
+  const Real h = 0.08, skin = 0.2 * h;
+  for (bool periodic : {false, true}) {
+    const Periodicity periodicity{box, {periodic, false, periodic}};
+    NeighbourSearch search(GetParam(), box, h);
+    search.set_periodicity(periodicity);
+    std::vector<Vec3> anchors;
+    sort_and_find(search, random_points(3000, box, 21), anchors);
+    NeighbourLists candidates;
+    search.find(anchors, candidates, skin);
+    for (Real move : {0.49 * skin, 1.5 * skin}) {
+      std::mt19937 rng(9);
+      std::normal_distribution<double> g(0.0, 1.0);
+      std::vector<Vec3> x(anchors.size());
+      for (std::size_t i = 0; i < x.size(); ++i) {
+        const Vec3 dir = Vec3(g(rng), g(rng), g(rng)).normalized();
+        x[i] = periodicity.wrap(anchors[i] + move * dir);  // every point moves the full distance
+      }
+      NeighbourLists lists;
+      search.keep_within(candidates, x, lists);
+      std::size_t pairs = 0, missed = 0;
+      for (std::size_t i = 0; i < x.size(); ++i) {
+        std::vector<std::uint32_t> expected;
+        for (std::size_t j = 0; j < x.size(); ++j)
+          if (j != i && periodicity.nearest_image(x[i] - x[j]).norm() < h) expected.push_back(std::uint32_t(j));
+        pairs += expected.size();
+        const std::vector<std::uint32_t> got(lists.begin(i), lists.end(i));
+        EXPECT_TRUE(std::is_sorted(got.begin(), got.end()));
+        for (std::uint32_t k = 0; k < lists.count(i); ++k)
+          EXPECT_NEAR(lists.distances(i)[k], periodicity.nearest_image(x[i] - x[got[k]]).norm(), 1e-6);
+        if (move < 0.5 * skin)
+          ASSERT_EQ(got, expected) << "particle " << i << (periodic ? ", periodic" : "");
+        else
+          missed += expected.size() - got.size();
+      }
+      EXPECT_GT(pairs, 20 * x.size());
+      if (move > skin) {
+        EXPECT_GT(missed, 0u) << "moved past the skin, the candidates cannot hold every pair";
+      }
+    }
+  }
+}
+
+// With per-particle supports, a candidate search with skin s covers moves d
+// and support growth g while 2d + g < s.
+TEST_P(NeighbourMethods, VerletListsWithVariableSupportCoverMovesAndGrowth) {
+  const Aabb box{Vec3(-0.3, 0.0, -0.1), Vec3(0.5, 0.4, 0.2)};
+  const Real h0 = 0.05, skin = 0.25 * h0;
+  NeighbourSearch search(GetParam(), box, h0);
+  std::vector<Vec3> anchors;
+  sort_and_find(search, random_points(2500, box, 13), anchors);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(0.8, 1.4);
+  std::normal_distribution<double> g(0.0, 1.0);
+  std::vector<Real> support(anchors.size());
+  for (Real& s : support) s = u(rng) * h0;
+  NeighbourLists candidates;
+  search.find(anchors, support, candidates, skin);
+  // Moves of 0.3 s and growth of 0.35 s: 2 · 0.3 + 0.35 = 0.95 < 1.
+  std::vector<Vec3> x(anchors.size());
+  std::vector<Real> grown(support);
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    x[i] = anchors[i] + 0.3 * skin * Vec3(g(rng), g(rng), g(rng)).normalized();
+    grown[i] += 0.35 * skin * (i % 3 == 0 ? 1.0 : -0.5);
+  }
+  NeighbourLists lists;
+  search.keep_within(candidates, x, grown, lists);
+  std::vector<std::vector<std::uint32_t>> expected(x.size());
+  for (std::size_t i = 0; i < x.size(); ++i)
+    for (std::size_t j = 0; j < x.size(); ++j) {
+      const Real hij = 0.5 * (grown[i] + grown[j]);
+      if (i != j && (x[i] - x[j]).squaredNorm() < hij * hij) expected[i].push_back(std::uint32_t(j));
+    }
+  for (std::size_t i = 0; i < x.size(); ++i)
+    ASSERT_EQ(std::vector<std::uint32_t>(lists.begin(i), lists.end(i)), expected[i]) << "particle " << i;
+}
+
 INSTANTIATE_TEST_SUITE_P(Search, NeighbourMethods, ::testing::Values(NeighbourMethod::grid, NeighbourMethod::kdtree),
                          [](const auto& info) { return to_string(info.param); });
 

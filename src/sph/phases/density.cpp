@@ -9,18 +9,78 @@
 namespace bakesim::sph {
 
 void SphSolver::phase_neighbours() {
-  {
-    ScopedPhase t(timers_, t_sort_);
-    search_.sort_order(x_, order_);
-    particles_.permute(order_);
+  // Verlet lists: search on the current positions only when some pair may
+  // have come within the support since the last search; otherwise keep the
+  // candidates closer than the support. After a restore, the candidates come
+  // back from the anchors (already in cell order: the sort keeps the order).
+  if (skin_ <= 0) {  // no skin: sort and search every step
+    {
+      ScopedPhase t(timers_, t_sort_);
+      search_.sort_order(x_, order_);
+      particles_.permute(order_);
+    }
+    ScopedPhase t(timers_, t_neigh_);
+    if (adaptive_)
+      search_.find(x_, smoothing_, lists_);
+    else
+      search_.find(x_, lists_);
+    ++searches_;
+  } else {
+    refresh_verlet_lists();
+  }
+  parallel_for(
+      x_.size(), [&](std::size_t i) { ncount_[i] = static_cast<std::int32_t>(lists_.count(i)); }, 4096);
+}
+
+void SphSolver::refresh_verlet_lists() {
+  const bool search = !anchors_valid_ || moved_past_skin();
+  if (search || !candidates_valid_) {
+    {
+      ScopedPhase t(timers_, t_sort_);
+      if (search) {
+        search_.sort_order(x_, order_);
+        particles_.permute(order_);
+        anchor_ = x_;
+        anchor_support_ = smoothing_;
+      } else {
+        search_.sort_order(anchor_, order_);
+        particles_.permute(order_);
+      }
+    }
+    ScopedPhase t(timers_, t_neigh_);
+    if (adaptive_)
+      search_.find(anchor_, anchor_support_, candidates_, skin_);
+    else
+      search_.find(anchor_, candidates_, skin_);
+    candidates_valid_ = anchors_valid_ = true;
+    searches_ += search;
   }
   ScopedPhase t(timers_, t_neigh_);
   if (adaptive_)
-    search_.find(x_, smoothing_, lists_);
+    search_.keep_within(candidates_, x_, smoothing_, lists_);
   else
-    search_.find(x_, lists_);
-  parallel_for(
-      x_.size(), [&](std::size_t i) { ncount_[i] = static_cast<std::int32_t>(lists_.count(i)); }, 4096);
+    search_.keep_within(candidates_, x_, lists_);
+}
+
+// Pairs closer than their support now were closer than support + skin at the
+// anchors while 2·(largest displacement) + (largest growth of a support) < skin.
+bool SphSolver::moved_past_skin() const {
+  struct Reach {
+    Real d2 = 0, growth = 0;
+  };
+  const Reach r = deterministic_reduce(
+      x_.size(), Reach{},
+      [&](std::size_t b, std::size_t e) {
+        Reach out;
+        for (std::size_t i = b; i < e; ++i) {
+          const Vec3 d = pair_offset_of(x_[i], anchor_[i]);
+          out.d2 = std::max(out.d2, d.squaredNorm());
+          out.growth = std::max(out.growth, smoothing_[i] - anchor_support_[i]);
+        }
+        return out;
+      },
+      [](Reach a, Reach b) { return Reach{std::max(a.d2, b.d2), std::max(a.growth, b.growth)}; });
+  return 2.0 * std::sqrt(r.d2) + r.growth >= skin_;
 }
 
 // Eq 3.13, plus the mass of a wall half-space at rest density for particles
