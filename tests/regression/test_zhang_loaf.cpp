@@ -124,3 +124,72 @@ TEST_P(ZhangLoaf, CentreAndSideFollowTheMeasuredLoafAndTheWeightLossIsInTheBand)
 }
 
 INSTANTIATE_TEST_SUITE_P(BothSolvers, ZhangLoaf, ::testing::Values("mpm", "sph"));
+
+// The tin loaf the breadBakingFoam authors baked and measured
+// (validation-data/breadbakingfoam_own_experiment_1min.csv), scenes/tin-loaf-mpm.json
+// at 8 mm cells (the scene's 4 mm gives the same plateaus, point1 RMS 5.0 degC:
+// docs/validation.md). The thermocouples are fixed in the tin, so the probes
+// sample at fixed points. Asserted: every probe plateaus between 97 and
+// 100.5 degC over the last three measured minutes and never passes 100.5; the
+// probe under the top crust (point1) follows its measured curve; the water lost
+// is in this model's band (measured 15.1%). Not asserted: the probes near the
+// floor and at mid-height heat 7-11 minutes early against the measurement
+// (docs/validation.md).
+TEST(TinLoaf, ProbesPlateauBelowTheBoilingPointAndTheTopProbeFollowsItsMeasuredCurve) {
+  Scene scene = load_scene(std::string(BAKESIM_SOURCE_DIR) + "/scenes/tin-loaf-mpm.json",
+                           {parse_override("solver.mpm.cell_size=0.008"),
+                            parse_override("colliders[0].shape.wall_thickness=0.016")});
+  auto solver = make_solver(scene);
+  // Measured rows: minute, then (mean, sd) per point 1, 2, 4, then moisture.
+  std::vector<std::vector<double>> rows;
+  {
+    std::ifstream in(std::string(BAKESIM_VALIDATION_DIR) + "/breadbakingfoam_own_experiment_1min.csv");
+    std::string line;
+    bool header = true;
+    while (std::getline(in, line)) {
+      if (line.empty() || line[0] == '#') continue;
+      if (header) {
+        header = false;
+        continue;
+      }
+      std::vector<double> row;
+      std::stringstream ss(line);
+      std::string cell;
+      while (std::getline(ss, cell, ',')) row.push_back(std::stod(cell));
+      if (row.size() == 9 && std::isfinite(row[1])) rows.push_back(row);
+    }
+  }
+  ASSERT_EQ(rows.size(), 28u);
+  const Vec3 points[3] = {Vec3(0.013, 0.041, 0), Vec3(0.035, 0.0001, 0), Vec3(0.028, 0.021, 0)};
+  std::vector<std::pair<double, double>> model[3];  // (bake minute, degC) per probe
+  double water0 = 0;
+  for (double w : solver->particles().scalar("water_mass")) water0 += w;
+  const double end = scene.end_time, frame = 0.01;
+  while (solver->time() < end - 1e-12) {
+    const double target = std::min(end, solver->time() + frame);
+    while (solver->time() < target - 1e-12) solver->step(std::min(solver->max_stable_dt(), target - solver->time()));
+    const double minute = scene.oven.bake_time(solver->time()) / 60;
+    for (int p = 0; p < 3; ++p) model[p].emplace_back(minute, solver->sample(points[p], {"temperature"})[0]);
+  }
+  double water = 0;
+  for (double w : solver->particles().scalar("water_mass")) water += w;
+  const double water_lost = 100 * (water0 - water) / water0;
+  const char* names[3] = {"point1", "point2", "point4"};
+  for (int p = 0; p < 3; ++p) {
+    double hottest = -1e9, plateau = 0, sum = 0;
+    for (const auto& [t, v] : model[p]) hottest = std::max(hottest, v);
+    for (std::size_t r = rows.size() - 3; r < rows.size(); ++r) plateau += interpolate(model[p], rows[r][0]) / 3;
+    for (const auto& row : rows) sum += std::pow(interpolate(model[p], row[0]) - row[1 + 2 * p], 2);
+    const double rms = std::sqrt(sum / double(rows.size()));
+    std::printf("tin loaf %s: RMS %.1f degC, plateau %.2f degC, hottest %.2f degC\n", names[p], rms, plateau, hottest);
+    EXPECT_GE(plateau, 97.0) << names[p];
+    EXPECT_LE(plateau, 100.5) << names[p];
+    EXPECT_LE(hottest, 100.5) << names[p];
+    if (p == 0) {
+      EXPECT_LE(rms, 8.0) << names[p];
+    }
+  }
+  std::printf("tin loaf: %.1f%% of the water lost (measured 15.1%%)\n", water_lost);
+  EXPECT_GE(water_lost, 10.0);
+  EXPECT_LE(water_lost, 25.0);
+}
