@@ -62,6 +62,7 @@ MpmSolver::MpmSolver(Setup setup)
       exchange_(particles_.add_scalar("exchange", "W/K", false)),
       exchange_t_(particles_.add_scalar("exchange_temperature", "W", false)),
       air_area_(particles_.add_scalar("air_area", "m^2", false)),
+      air_depth_(particles_.add_scalar("air_depth", "m", false)),
       heat_src_(particles_.add_scalar("heat_source", "W", false)),
       heat_vec_(particles_.add_vector("heat_flux_term", "W", false)),
       water_src_(particles_.add_scalar("water_source", "kg/s", false)),

@@ -18,6 +18,7 @@
 #include "sim/bake_stats.hpp"
 #include "geometry/contact.hpp"
 #include "mpm/grid.hpp"
+#include "physics/moisture.hpp"
 #include "physics/heat.hpp"
 #include "physics/oven.hpp"
 #include "physics/rheology.hpp"
@@ -51,6 +52,21 @@ TEST(Oven, ColliderTemperaturesAreReadOncePerBakeTimeAndZeroWithoutASchedule) {
   EXPECT_DOUBLE_EQ(t[0], 150.0);
   EXPECT_DOUBLE_EQ(t[1], 0.0);
   EXPECT_DOUBLE_EQ(t[2], 180.0);
+}
+
+// A particle δ below the face: in steady drying the profile is linear, and
+// the face saturation s_f = s − q δ/(D ρ_w) with q = E s_f gives the flux.
+TEST(Moisture, EvaporationBelowTheFaceIsDiffusionInSeriesWithTheSurfaceLaw) {
+  Moisture w;
+  w.saturation = 0.5, w.diffusivity = 1e-8, w.evaporation_rate = 5e-3;
+  const double theta = 100, s = 0.4, depth = 1e-3;
+  const double q = w.evaporation_flux_below(theta, s, depth);
+  const double face = s - q * depth / (w.diffusivity * w.water_density);
+  EXPECT_NEAR(q, w.evaporation_flux(theta, face), 1e-15);
+  EXPECT_NEAR(q, w.evaporation_flux(theta, s) / 1.5, 1e-15);  // E δ/(D ρ_w) = 0.5
+  EXPECT_EQ(w.evaporation_flux_below(theta, s, 0.0), w.evaporation_flux(theta, s));
+  w.diffusivity = 0;  // water that cannot move evaporates where it is
+  EXPECT_EQ(w.evaporation_flux_below(theta, s, depth), w.evaporation_flux(theta, s));
 }
 
 TEST(SurfaceExchange, SumsPartsAndRelaxesExactlyTowardsTheOutside) {

@@ -97,7 +97,7 @@ void MpmSolver::phase_plasticity(Real dt) {
                           sat = water_[i] / (mat.water.water_density * volume);
                           saturation_[i] = sat;
                           kirchhoff_pressure += j * mat.water.pressure(sat);
-                          water_src_[i] = -mat.water.evaporation_flux(theta, sat) * air_area_[i];
+                          water_src_[i] = -mat.water.evaporation_flux_below(theta, sat, air_depth_[i]) * air_area_[i];
                           water_vec_[i] = -(volume * mat.water.diffusion_coefficient(theta) * mat.water.water_density *
                                             flux_scale) *
                                           grad_s_[i];

@@ -32,10 +32,11 @@ void MpmSolver::g2p(Real dt) {
         Real b[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};  // b[col][row] = Σ w v_row offset_col
         // Thermal gathers: Σ w of {Δθ, k, kθ, r, k_air} and Σ w o of {θ_new, s}.
         // (moisture: and Σ w r_v, Σ w o ρ_v)
-        Real hs[6] = {0, 0, 0, 0, 0, 0}, hg[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+        // (and Σ w o k_air: the centroid of the particle's air-facing area, the face)
+        Real hs[6] = {0, 0, 0, 0, 0, 0}, hg[3][4] = {{0, 0, 0, 0}, {0, 0, 0, 0}, {0, 0, 0, 0}};
         for (int i = 0; i < 3; ++i) {
           Real vi[3] = {0, 0, 0}, bi[2][3] = {{0, 0, 0}, {0, 0, 0}};  // Σ over j, k at this i
-          Real hsi[6] = {0, 0, 0, 0, 0, 0}, hgi[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+          Real hsi[6] = {0, 0, 0, 0, 0, 0}, hgi[3][4] = {{0, 0, 0, 0}, {0, 0, 0, 0}, {0, 0, 0, 0}};
           for (int j = 0; j < 3; ++j) {
             const Real oy = j - ay.frac;
             const std::size_t row_index = std::size_t(ax.base + i) * syz + std::size_t(ay.base + j) * nz + az.base;
@@ -57,7 +58,7 @@ void MpmSolver::g2p(Real dt) {
             }
             if constexpr (kThermal) {
               const HeatState* hrow = &heat_state_[row_index];
-              Real sj[6] = {0, 0, 0, 0, 0, 0}, tj[3] = {0, 0, 0}, tz[3] = {0, 0, 0};
+              Real sj[6] = {0, 0, 0, 0, 0, 0}, tj[4] = {0, 0, 0, 0}, tz[4] = {0, 0, 0, 0};
               for (int kk = 0; kk < 3; ++kk) {
                 const Real w = az.w[kk], oz = kk - az.frac;
                 const HeatState& f = hrow[kk];
@@ -65,9 +66,10 @@ void MpmSolver::g2p(Real dt) {
                     sj[3] += w * f.water_ratio, sj[4] += w * f.air_area, sj[5] += w * f.vapour_ratio;
                 tj[0] += w * f.theta, tj[1] += w * f.saturation, tj[2] += w * f.vapour_density;
                 tz[0] += w * f.theta * oz, tz[1] += w * f.saturation * oz, tz[2] += w * f.vapour_density * oz;
+                tj[3] += w * f.air_area, tz[3] += w * f.air_area * oz;
               }
               for (int q = 0; q < 6; ++q) hsi[q] += wy * sj[q];
-              for (int q = 0; q < 3; ++q) {
+              for (int q = 0; q < 4; ++q) {
                 hgi[0][q] += wy * tj[q];  // carried to x below
                 hgi[1][q] += wy * tj[q] * oy;
                 hgi[2][q] += wy * tz[q];
@@ -83,7 +85,7 @@ void MpmSolver::g2p(Real dt) {
           }
           if constexpr (kThermal) {
             for (int q = 0; q < 6; ++q) hs[q] += wx * hsi[q];
-            for (int q = 0; q < 3; ++q) {
+            for (int q = 0; q < 4; ++q) {
               hg[0][q] += wx * hgi[0][q] * ox;
               hg[1][q] += wx * hgi[1][q];
               hg[2][q] += wx * hgi[2][q];
@@ -121,6 +123,9 @@ void MpmSolver::g2p(Real dt) {
           const Real vapour_gain = water_[p] * hs[5];
           water_[p] *= 1 + hs[3] + hs[5];
           air_area_[p] = volume * hs[4];
+          // The area-weighted mean offset of the nodes that give the particle its area: the face,
+          // seen from the particle (cells; the area profile of ∇φ is centred on the face).
+          air_depth_[p] = hs[4] > 0 ? dx_ * Vec3(hg[0][3], hg[1][3], hg[2][3]).norm() / hs[4] : 0;
           grad_theta_[p] = d_inv * Vec3(hg[0][0], hg[1][0], hg[2][0]);
           grad_s_[p] = d_inv * Vec3(hg[0][1], hg[1][1], hg[2][1]);
           if (moist_) {
