@@ -32,8 +32,8 @@ int run_bench(const BenchOptions& opt) {
       for (double skin : skins)
         for (int t : threads) {
           tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(t));
-          Scene scene = parse_scene(mpm ? mpm_cube_scene_json(n, variant) : dam_break_scene_json(n, variant, skin),
-                                    "bench", ".");
+          Scene scene =
+              parse_scene(mpm ? mpm_cube_scene_json(n, variant) : dam_break_scene_json(n, variant, skin), "bench", ".");
           auto solver = make_solver(scene);
           // Warm up so the column has started to move and caches are hot.
           for (int i = 0; i < 5; ++i) solver->step(solver->max_stable_dt());

@@ -393,7 +393,8 @@ int main(int argc, char** argv) {
                      "run writes as scene.json");
 
   BenchOptions bench_opt;
-  std::string bench_particles, bench_threads, bench_skin = "0.2", bench_search = "grid,kdtree", bench_models = "elastic,viscoplastic";
+  std::string bench_particles, bench_threads, bench_skin = "0.2", bench_search = "grid,kdtree",
+                                              bench_models = "elastic,viscoplastic";
   auto* bench =
       app.add_subcommand("bench", "Benchmark a solver: SPH dam break or MPM cube (particle-steps per second)");
   bench->add_option("--solver", bench_opt.solver, "sph (dam break) or mpm (cube squashed on the floor)")
@@ -405,7 +406,8 @@ int main(int argc, char** argv) {
                     "Comma-separated particle counts (default 50000,200000 for SPH, 100000,500000 for MPM)");
   bench->add_option("--threads", bench_threads, "Comma-separated thread counts (default: 1 and all)");
   bench->add_option("--search", bench_search, "Comma-separated neighbour searches: grid, kdtree");
-  bench->add_option("--skin", bench_skin, "SPH: comma-separated Verlet skins, fractions of the support (default 0.2; 0: search every step)");
+  bench->add_option("--skin", bench_skin,
+                    "SPH: comma-separated Verlet skins, fractions of the support (default 0.2; 0: search every step)");
   bench->add_option("--steps", bench_opt.steps, "Timed steps per case")->check(CLI::Range(1, 100000));
 
   MeshArgs mesh_args;

@@ -18,6 +18,8 @@ import math
 import os
 import sys
 
+from zhang_loaf import interp  # tools/ is the script's directory
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 POINTS = ("point1", "point2", "point4")
 
@@ -26,16 +28,6 @@ def read_measured():
     with open(os.path.join(ROOT, "validation-data", "breadbakingfoam_own_experiment_1min.csv")) as f:
         rows = list(csv.DictReader(line for line in f if not line.startswith("#")))
     return [r for r in rows if r["T_point1_avg_C"] != "nan"]
-
-
-def interp(xs, ys, x):
-    if x <= xs[0]:
-        return ys[0]
-    for i in range(1, len(xs)):
-        if x <= xs[i]:
-            f = (x - xs[i - 1]) / (xs[i] - xs[i - 1])
-            return ys[i - 1] + f * (ys[i] - ys[i - 1])
-    return ys[-1]
 
 
 def first_reaching(ts, vs, level):

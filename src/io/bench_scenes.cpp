@@ -23,8 +23,9 @@ std::string dam_break_scene_json(long particles, const std::string& search, doub
   "bodies": [{{"name": "column", "material": "water",
               "shape": {{"type": "box", "min": [0, 0, 0], "max": [{a}, {h}, {depth}]}}}}]
 }})",
-                     fmt::arg("spacing", spacing), fmt::arg("search", search), fmt::arg("skin", skin), fmt::arg("lx", 4 * a),
-                     fmt::arg("ly", 3 * a), fmt::arg("depth", depth), fmt::arg("a", a), fmt::arg("h", 2 * a));
+                     fmt::arg("spacing", spacing), fmt::arg("search", search), fmt::arg("skin", skin),
+                     fmt::arg("lx", 4 * a), fmt::arg("ly", 3 * a), fmt::arg("depth", depth), fmt::arg("a", a),
+                     fmt::arg("h", 2 * a));
 }
 
 std::string mpm_cube_scene_json(long particles, const std::string& model) {

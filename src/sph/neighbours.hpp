@@ -109,8 +109,7 @@ class NeighbourSearch {
   template <class Query>
   void fill(std::size_t n, NeighbourLists& lists, Query&& query);
   template <class Within>
-  void keep(const NeighbourLists& candidates, const std::vector<Vec3>& x, NeighbourLists& lists,
-            Within&& within) const;
+  void keep(const NeighbourLists& candidates, const std::vector<Vec3>& x, NeighbourLists& lists, Within&& within) const;
   static void sort_lists(NeighbourLists& lists);
   NeighbourMethod method_;
   Real h_;

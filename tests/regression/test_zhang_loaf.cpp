@@ -21,9 +21,10 @@ using namespace bakesim;
 
 namespace {
 
-std::vector<std::pair<double, double>> measured(const std::string& name) {
+// The numeric rows of a validation-data CSV (comment lines and the header skipped).
+std::vector<std::vector<double>> measured_rows(const std::string& name) {
   std::ifstream in(std::string(BAKESIM_VALIDATION_DIR) + "/" + name);
-  std::vector<std::pair<double, double>> rows;
+  std::vector<std::vector<double>> rows;
   std::string line;
   bool header = true;
   while (std::getline(in, line)) {
@@ -32,12 +33,20 @@ std::vector<std::pair<double, double>> measured(const std::string& name) {
       header = false;
       continue;
     }
-    double a, b;
-    char comma;
-    std::stringstream(line) >> a >> comma >> b;
-    rows.emplace_back(a, b);
+    std::vector<double> row;
+    std::stringstream ss(line);
+    std::string cell;
+    while (std::getline(ss, cell, ',')) row.push_back(std::stod(cell));
+    rows.push_back(row);
   }
   return rows;
+}
+
+// A two-column curve (time, value).
+std::vector<std::pair<double, double>> measured(const std::string& name) {
+  std::vector<std::pair<double, double>> curve;
+  for (const auto& row : measured_rows(name)) curve.emplace_back(row.at(0), row.at(1));
+  return curve;
 }
 
 double interpolate(const std::vector<std::pair<double, double>>& curve, double t) {
@@ -138,29 +147,14 @@ INSTANTIATE_TEST_SUITE_P(BothSolvers, ZhangLoaf, ::testing::Values("mpm", "sph")
 // floor and at mid-height heat 7-11 minutes early against the measurement
 // (docs/validation.md).
 TEST(TinLoaf, ProbesPlateauBelowTheBoilingPointAndTheTopProbeFollowsItsMeasuredCurve) {
-  Scene scene = load_scene(std::string(BAKESIM_SOURCE_DIR) + "/scenes/tin-loaf-mpm.json",
-                           {parse_override("solver.mpm.cell_size=0.008"),
-                            parse_override("colliders[0].shape.wall_thickness=0.016")});
+  Scene scene = load_scene(
+      std::string(BAKESIM_SOURCE_DIR) + "/scenes/tin-loaf-mpm.json",
+      {parse_override("solver.mpm.cell_size=0.008"), parse_override("colliders[0].shape.wall_thickness=0.016")});
   auto solver = make_solver(scene);
   // Measured rows: minute, then (mean, sd) per point 1, 2, 4, then moisture.
   std::vector<std::vector<double>> rows;
-  {
-    std::ifstream in(std::string(BAKESIM_VALIDATION_DIR) + "/breadbakingfoam_own_experiment_1min.csv");
-    std::string line;
-    bool header = true;
-    while (std::getline(in, line)) {
-      if (line.empty() || line[0] == '#') continue;
-      if (header) {
-        header = false;
-        continue;
-      }
-      std::vector<double> row;
-      std::stringstream ss(line);
-      std::string cell;
-      while (std::getline(ss, cell, ',')) row.push_back(std::stod(cell));
-      if (row.size() == 9 && std::isfinite(row[1])) rows.push_back(row);
-    }
-  }
+  for (const auto& row : measured_rows("breadbakingfoam_own_experiment_1min.csv"))
+    if (row.size() == 9 && std::isfinite(row[1])) rows.push_back(row);
   ASSERT_EQ(rows.size(), 28u);
   const Vec3 points[3] = {Vec3(0.013, 0.041, 0), Vec3(0.035, 0.0001, 0), Vec3(0.028, 0.021, 0)};
   std::vector<std::pair<double, double>> model[3];  // (bake minute, degC) per probe

@@ -79,7 +79,9 @@ bool SphSolver::moved_past_skin() const {
         }
         return out;
       },
-      [](Reach a, Reach b) { return Reach{std::max(a.d2, b.d2), std::max(a.growth, b.growth)}; });
+      [](Reach a, Reach b) {
+        return Reach{std::max(a.d2, b.d2), std::max(a.growth, b.growth)};
+      });
   return 2.0 * std::sqrt(r.d2) + r.growth >= skin_;
 }
 
