@@ -2,6 +2,8 @@
 #include <string>
 #include <vector>
 
+#include "sph/setup.hpp"
+
 namespace bakesim {
 
 struct BenchOptions {
@@ -9,7 +11,7 @@ struct BenchOptions {
   std::vector<int> threads;    // empty: 1 and all
   std::string solver = "sph";  // sph: dam break; mpm: cubes dropped on the floor
   std::vector<std::string> searches{"grid", "kdtree"};
-  std::vector<double> skins{0.2};                              // SPH Verlet skins, fractions of h
+  std::vector<double> skins{sph::Settings{}.neighbour_skin};  // SPH Verlet skins, fractions of h
   std::vector<std::string> models{"elastic", "viscoplastic"};  // MPM materials
   int steps = 50;
   bool phases = true;

@@ -393,8 +393,7 @@ int main(int argc, char** argv) {
                      "run writes as scene.json");
 
   BenchOptions bench_opt;
-  std::string bench_particles, bench_threads, bench_skin = "0.2", bench_search = "grid,kdtree",
-                                              bench_models = "elastic,viscoplastic";
+  std::string bench_particles, bench_threads, bench_search = "grid,kdtree", bench_models = "elastic,viscoplastic";
   auto* bench =
       app.add_subcommand("bench", "Benchmark a solver: SPH dam break or MPM cube (particle-steps per second)");
   bench->add_option("--solver", bench_opt.solver, "sph (dam break) or mpm (cube squashed on the floor)")
@@ -406,8 +405,11 @@ int main(int argc, char** argv) {
                     "Comma-separated particle counts (default 50000,200000 for SPH, 100000,500000 for MPM)");
   bench->add_option("--threads", bench_threads, "Comma-separated thread counts (default: 1 and all)");
   bench->add_option("--search", bench_search, "Comma-separated neighbour searches: grid, kdtree");
-  bench->add_option("--skin", bench_skin,
-                    "SPH: comma-separated Verlet skins, fractions of the support (default 0.2; 0: search every step)");
+  bench->add_option("--skin", bench_opt.skins,
+                    "SPH: comma-separated Verlet skins, fractions of the support (default: the scene default; 0: "
+                    "search every step)")
+      ->delimiter(',')
+      ->check(CLI::Range(0.0, 1.0));
   bench->add_option("--steps", bench_opt.steps, "Timed steps per case")->check(CLI::Range(1, 100000));
 
   MeshArgs mesh_args;
@@ -584,19 +586,6 @@ int main(int argc, char** argv) {
       std::stringstream ss(bench_search);
       std::string item;
       while (std::getline(ss, item, ',')) bench_opt.searches.push_back(item);
-      bench_opt.skins.clear();
-      std::stringstream ks(bench_skin);
-      while (std::getline(ks, item, ',')) {
-        std::size_t used = 0;
-        double skin = -1;
-        try {
-          skin = std::stod(item, &used);
-        } catch (const std::exception&) {
-        }
-        if (used != item.size() || !(skin >= 0 && skin <= 1))
-          throw InputError("bench --skin", fmt::format("'{}' is not a skin between 0 and 1", item));
-        bench_opt.skins.push_back(skin);
-      }
       bench_opt.models.clear();
       std::stringstream ms(bench_models);
       while (std::getline(ms, item, ',')) bench_opt.models.push_back(item);

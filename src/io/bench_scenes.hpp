@@ -8,7 +8,7 @@ namespace bakesim {
 // The dam break of scenes/dam-break.json with a spacing chosen for about
 // `particles` particles and the given neighbour search and Verlet skin
 // (fraction of h); used by the benchmark and the tests.
-std::string dam_break_scene_json(long particles, const std::string& search, double skin = 0.2);
+std::string dam_break_scene_json(long particles, const std::string& search, double skin);
 
 // An MPM cube of about `particles` points (8 per cell) dropped onto a floor:
 // model "elastic" (Hencky, E = 100 kPa) or "viscoplastic" (von Mises dough,

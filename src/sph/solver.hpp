@@ -90,7 +90,6 @@ class SphSolver final : public Solver {
   void seed_particles();
   void check_initial_overlaps() const;
   void phase_neighbours();
-  void refresh_verlet_lists();
   // Whether some pair may have come within reach since the anchors (Verlet).
   bool moved_past_skin() const;
   void phase_density();

@@ -13,53 +13,33 @@ void SphSolver::phase_neighbours() {
   // have come within the support since the last search; otherwise keep the
   // candidates closer than the support. After a restore, the candidates come
   // back from the anchors (already in cell order: the sort keeps the order).
-  if (skin_ <= 0) {  // no skin: sort and search every step
-    {
-      ScopedPhase t(timers_, t_sort_);
-      search_.sort_order(x_, order_);
-      particles_.permute(order_);
-    }
-    ScopedPhase t(timers_, t_neigh_);
-    if (adaptive_)
-      search_.find(x_, smoothing_, lists_);
-    else
-      search_.find(x_, lists_);
-    ++searches_;
-  } else {
-    refresh_verlet_lists();
-  }
-  parallel_for(
-      x_.size(), [&](std::size_t i) { ncount_[i] = static_cast<std::int32_t>(lists_.count(i)); }, 4096);
-}
-
-void SphSolver::refresh_verlet_lists() {
-  const bool search = !anchors_valid_ || moved_past_skin();
+  // Without a skin the search gives the lists themselves, every step.
+  const bool search = skin_ <= 0 || !anchors_valid_ || moved_past_skin();
   if (search || !candidates_valid_) {
     {
       ScopedPhase t(timers_, t_sort_);
-      if (search) {
-        search_.sort_order(x_, order_);
-        particles_.permute(order_);
-        anchor_ = x_;
-        anchor_support_ = smoothing_;
-      } else {
-        search_.sort_order(anchor_, order_);
-        particles_.permute(order_);
-      }
+      search_.sort_order(search ? x_ : anchor_, order_);
+      particles_.permute(order_);
+      if (search) anchor_ = x_, anchor_support_ = smoothing_;
     }
     ScopedPhase t(timers_, t_neigh_);
+    NeighbourLists& found = skin_ > 0 ? candidates_ : lists_;
     if (adaptive_)
-      search_.find(anchor_, anchor_support_, candidates_, skin_);
+      search_.find(anchor_, anchor_support_, found, skin_);
     else
-      search_.find(anchor_, candidates_, skin_);
-    candidates_valid_ = anchors_valid_ = true;
+      search_.find(anchor_, found, skin_);
+    candidates_valid_ = anchors_valid_ = skin_ > 0;
     searches_ += search;
   }
-  ScopedPhase t(timers_, t_neigh_);
-  if (adaptive_)
-    search_.keep_within(candidates_, x_, smoothing_, lists_);
-  else
-    search_.keep_within(candidates_, x_, lists_);
+  if (skin_ > 0) {
+    ScopedPhase t(timers_, t_neigh_);
+    if (adaptive_)
+      search_.keep_within(candidates_, x_, smoothing_, lists_);
+    else
+      search_.keep_within(candidates_, x_, lists_);
+  }
+  parallel_for(
+      x_.size(), [&](std::size_t i) { ncount_[i] = static_cast<std::int32_t>(lists_.count(i)); }, 4096);
 }
 
 // Pairs closer than their support now were closer than support + skin at the
