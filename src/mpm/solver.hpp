@@ -95,6 +95,8 @@ class MpmSolver final : public Solver {
   void push_out_of_colliders(std::size_t p);
   void push_inside_domain(std::size_t p);
   void mirror_sticky_planes();
+  void add_wall_ghost_stress(Real dt);
+  std::vector<std::size_t> sticky_planes() const;
   // Periodic axes (domain.periodic): the nodes of the guard layers beyond a
   // periodic face are images of nodes inside (index G + ((g − G) mod N)).
   // After P2G their sums are added to the node they image and copied back
