@@ -179,6 +179,7 @@ class MpmSolver final : public Solver {
   std::array<int, 3> period_cells_{};     // cells per period along each periodic axis (0: not periodic)
   std::vector<std::uint8_t> image_node_;  // per node: an image of a node inside (periodic axes only)
   std::vector<Vec4> mirror_velocity_;     // grid phase scratch: flow velocity and 1, or 0 (mirror_sticky_planes)
+  std::vector<Real> ghost_distance_;      // P2G scratch: distance to a sticky plane, or 0 (add_wall_ghost_stress)
   // Particle indices of each material, rebuilt when particle memory is
   // reordered: the constitutive phase dispatches once per material group.
   std::vector<std::vector<std::uint32_t>> material_members_;

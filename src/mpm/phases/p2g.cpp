@@ -109,8 +109,9 @@ void MpmSolver::p2g(Real dt) {
 // the nodes in front of the plane only: the stress is continued evenly
 // through the face (the shear stress beside a no-slip wall, whose velocity
 // the grid continues oddly, mirror_sticky_planes, is even; so is the
-// pressure). Ghosts carry no mass or momentum. Serial: the ghosts' stencils
-// cross the colouring of the blocks, and only a layer of particles has one.
+// pressure). Ghosts carry no mass or momentum. The distances are found in
+// parallel, the ghosts scattered serially: their stencils cross the
+// colouring of the blocks, and only a layer of particles has one.
 void MpmSolver::add_wall_ghost_stress(Real dt) {
   const std::vector<std::size_t> planes = sticky_planes();
   if (planes.empty()) return;
@@ -120,11 +121,15 @@ void MpmSolver::add_wall_ghost_stress(Real dt) {
   for (std::size_t ci : planes) {
     const RigidPose pose = setup_.colliders[ci].motion.at(time_);
     const ColliderGeometry& geometry = setup_.colliders[ci].geometry;
+    ghost_distance_.resize(x_.size());
+    parallel_for(x_.size(), [&](std::size_t p) {
+      const Real d = signed_distance(geometry, pose.to_rest(x_[p])).distance;
+      ghost_distance_[p] = d > 0 && d < reach ? d : Real(0);
+    });
+    const Vec3 n = pose.rotation * std::get<PlaneCollider>(geometry).normal;  // unit
     for (std::size_t p = 0; p < x_.size(); ++p) {
-      const WallContact w = signed_distance(geometry, pose.to_rest(x_[p]));
-      if (w.distance <= 0 || w.distance >= reach) continue;
-      const Vec3 n = pose.rotation * w.normal;
-      const Vec3 ghost = x_[p] - 2 * w.distance * n;
+      if (ghost_distance_[p] == 0) continue;
+      const Vec3 ghost = x_[p] - 2 * ghost_distance_[p] * n;
       const Vec3 g = (ghost - origin) * inv_dx_;
       const Axis ax = axis_weights(g.x()), ay = axis_weights(g.y()), az = axis_weights(g.z());
       const Real s = -dt * volume0_[p] * d_inv * dx_;
