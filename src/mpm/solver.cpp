@@ -102,6 +102,10 @@ MpmSolver::MpmSolver(Setup setup)
   }
   if (s.heat == HeatMethod::implicit) implicit_mass_.assign(nodes, 0);
   if (!setup_.colliders.empty()) near_collider_.assign(nodes, 0);
+  for (std::size_t ci = 0; ci < setup_.colliders.size(); ++ci)
+    if (setup_.colliders[ci].contact.mode == ContactMode::sticky &&
+        std::holds_alternative<PlaneCollider>(setup_.colliders[ci].geometry))
+      sticky_planes_.push_back(ci);
   blocks_.resize(nx_, ny_, nz_);
   periodicity_ = setup_.periodicity();
   if (periodicity_.any()) {

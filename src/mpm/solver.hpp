@@ -96,7 +96,6 @@ class MpmSolver final : public Solver {
   void push_inside_domain(std::size_t p);
   void mirror_sticky_planes();
   void add_wall_ghost_stress(Real dt);
-  std::vector<std::size_t> sticky_planes() const;
   // Periodic axes (domain.periodic): the nodes of the guard layers beyond a
   // periodic face are images of nodes inside (index G + ((g − G) mod N)).
   // After P2G their sums are added to the node they image and copied back
@@ -174,12 +173,13 @@ class MpmSolver final : public Solver {
   // G2P and the implicit solve (grid.hpp).
   std::vector<HeatSums> heat_sums_;
   std::vector<HeatState> heat_state_;
-  BlockOrder blocks_;                     // particles by grid block, blocks coloured for race-free P2G
-  Periodicity periodicity_;               // periodic axes of the domain (geometry/periodic.hpp)
-  std::array<int, 3> period_cells_{};     // cells per period along each periodic axis (0: not periodic)
-  std::vector<std::uint8_t> image_node_;  // per node: an image of a node inside (periodic axes only)
-  std::vector<Vec4> mirror_velocity_;     // grid phase scratch: flow velocity and 1, or 0 (mirror_sticky_planes)
-  std::vector<Real> ghost_distance_;      // P2G scratch: distance to a sticky plane, or 0 (add_wall_ghost_stress)
+  BlockOrder blocks_;                       // particles by grid block, blocks coloured for race-free P2G
+  Periodicity periodicity_;                 // periodic axes of the domain (geometry/periodic.hpp)
+  std::array<int, 3> period_cells_{};       // cells per period along each periodic axis (0: not periodic)
+  std::vector<std::uint8_t> image_node_;    // per node: an image of a node inside (periodic axes only)
+  std::vector<Vec4> mirror_velocity_;       // grid phase scratch: flow velocity and 1, or 0 (mirror_sticky_planes)
+  std::vector<std::size_t> sticky_planes_;  // the colliders that are sticky planes (mirror_sticky_planes, ghosts)
+  std::vector<Real> ghost_distance_;        // P2G scratch: distance to a sticky plane, or 0 (add_wall_ghost_stress)
   // Particle indices of each material, rebuilt when particle memory is
   // reordered: the constitutive phase dispatches once per material group.
   std::vector<std::vector<std::uint32_t>> material_members_;

@@ -150,17 +150,8 @@ void MpmSolver::phase_grid(Real dt) {
 // (Newtonian) to 8% (Bingham plug) at 20 cells across. Planes only: material
 // never belongs behind a plane, whereas grips (boxes, meshes) hold material
 // inside them and keep their own velocity there.
-std::vector<std::size_t> MpmSolver::sticky_planes() const {
-  std::vector<std::size_t> planes;
-  for (std::size_t ci = 0; ci < setup_.colliders.size(); ++ci)
-    if (setup_.colliders[ci].contact.mode == ContactMode::sticky &&
-        std::holds_alternative<PlaneCollider>(setup_.colliders[ci].geometry))
-      planes.push_back(ci);
-  return planes;
-}
-
 void MpmSolver::mirror_sticky_planes() {
-  const std::vector<std::size_t> planes = sticky_planes();
+  const std::vector<std::size_t>& planes = sticky_planes_;
   if (planes.empty()) return;
   const std::size_t nz = nz_, syz = std::size_t(ny_) * nz_;
   const Real on_face = kNodeOnFace * dx_;

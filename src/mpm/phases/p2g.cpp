@@ -113,20 +113,20 @@ void MpmSolver::p2g(Real dt) {
 // parallel, the ghosts scattered serially: their stencils cross the
 // colouring of the blocks, and only a layer of particles has one.
 void MpmSolver::add_wall_ghost_stress(Real dt) {
-  const std::vector<std::size_t> planes = sticky_planes();
-  if (planes.empty()) return;
+  if (sticky_planes_.empty()) return;
   const Vec3 origin = grid_origin_;
   const std::size_t nz = nz_, syz = std::size_t(ny_) * nz_;
   const Real d_inv = 4.0 * inv_dx_ * inv_dx_, reach = 1.5 * dx_, on_face = kNodeOnFace * dx_;
-  for (std::size_t ci : planes) {
+  for (std::size_t ci : sticky_planes_) {
+    // The plane at this step's pose, in world coordinates (its normal is unit).
     const RigidPose pose = setup_.colliders[ci].motion.at(time_);
-    const ColliderGeometry& geometry = setup_.colliders[ci].geometry;
+    const PlaneCollider& plane = std::get<PlaneCollider>(setup_.colliders[ci].geometry);
+    const Vec3 n = pose.rotation * plane.normal, point = pose.to_world(plane.point);
     ghost_distance_.resize(x_.size());
     parallel_for(x_.size(), [&](std::size_t p) {
-      const Real d = signed_distance(geometry, pose.to_rest(x_[p])).distance;
+      const Real d = n.dot(x_[p] - point);
       ghost_distance_[p] = d > 0 && d < reach ? d : Real(0);
     });
-    const Vec3 n = pose.rotation * std::get<PlaneCollider>(geometry).normal;  // unit
     for (std::size_t p = 0; p < x_.size(); ++p) {
       if (ghost_distance_[p] == 0) continue;
       const Vec3 ghost = x_[p] - 2 * ghost_distance_[p] * n;
@@ -142,7 +142,7 @@ void MpmSolver::add_wall_ghost_stress(Real dt) {
             const long ix = long(ax.base) + i, iy = long(ay.base) + j, iz = long(az.base) + k;
             if (ix < 0 || iy < 0 || iz < 0 || ix >= nx_ || iy >= ny_ || iz >= nz_) continue;
             const Vec3 xi = origin + dx_ * Vec3(Real(ix), Real(iy), Real(iz));
-            if (signed_distance(geometry, pose.to_rest(xi)).distance < on_face) continue;  // on or behind: set later
+            if (n.dot(xi - point) < on_face) continue;  // on or behind the plane: set by the grid update
             const Vec3 offset(i - ax.frac, j - ay.frac, k - az.frac);
             const Vec3 f = (ax.w[i] * ay.w[j] * az.w[k] * s) * (tau * offset);
             GridNode& node = grid_[std::size_t(ix) * syz + std::size_t(iy) * nz + std::size_t(iz)];
