@@ -405,9 +405,10 @@ int main(int argc, char** argv) {
                     "Comma-separated particle counts (default 50000,200000 for SPH, 100000,500000 for MPM)");
   bench->add_option("--threads", bench_threads, "Comma-separated thread counts (default: 1 and all)");
   bench->add_option("--search", bench_search, "Comma-separated neighbour searches: grid, kdtree");
-  bench->add_option("--skin", bench_opt.skins,
-                    "SPH: comma-separated Verlet skins, fractions of the support (default: the scene default; 0: "
-                    "search every step)")
+  bench
+      ->add_option("--skin", bench_opt.skins,
+                   "SPH: comma-separated Verlet skins, fractions of the support (default: the scene default; 0: "
+                   "search every step)")
       ->delimiter(',')
       ->check(CLI::Range(0.0, 1.0));
   bench->add_option("--steps", bench_opt.steps, "Timed steps per case")->check(CLI::Range(1, 100000));
@@ -486,9 +487,12 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   sweep->add_flag("--quiet,-q", sweep_args.quiet, "No progress lines or table");
   sweep->add_flag("--preview", sweep_args.preview, "Every run as run --preview (a quick look at the grid)");
-  sweep->add_option("--dask", sweep_args.dask,
-                    "Run the grid on Dask through the Python module: 'local' (a LocalCluster on this machine) or "
-                    "a scheduler's address (tcp://HOST:8786); docs/python.md");
+  auto* dask_option = sweep->add_option(
+      "--dask", sweep_args.dask,
+      "Where the runs go on Dask: 'local' (a LocalCluster on this machine; the default when python3-distributed "
+      "and the Python module are installed) or a scheduler's address (tcp://HOST:8786); docs/python.md");
+  sweep->add_flag("--processes", sweep_args.processes, "Run every run as a process here, without Dask")
+      ->excludes(dask_option);
 
   std::string report_dir;
   render::ReportOptions report_opt;

@@ -1,6 +1,7 @@
 #include "sweep.hpp"
 
 #include <fcntl.h>
+#include <poll.h>
 #include <fmt/format.h>
 #include <sys/prctl.h>
 #include <sys/wait.h>
@@ -12,6 +13,7 @@
 #include <csignal>
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <thread>
 
@@ -37,21 +39,25 @@ constexpr const char* kSweepLockFile = "bakesim-sweep.lock";
 std::atomic<int> g_sweep_signal{0};
 extern "C" void on_sweep_signal(int sig) { g_sweep_signal.store(sig); }
 
-struct Job {
-  std::size_t point;
+// Starts `argv` in a process group of its own (a Ctrl-C reaches the sweep,
+// which passes it on once: a second SIGINT would end a run without its
+// checkpoint) that dies with the sweep. stdout and stderr go into `log`;
+// with `pipes`, stdin and stdout are pipes instead (their other ends returned).
+struct Spawned {
   pid_t pid = -1;
-  Stopwatch clock;
+  int to_child = -1, from_child = -1;
 };
-
-// Starts `argv` with stdout and stderr into `log`, in a process group of its
-// own (a Ctrl-C reaches the sweep, which passes it on once: a second SIGINT
-// would end a run without its checkpoint) that dies with the sweep.
-pid_t spawn(const std::vector<std::string>& argv, const fs::path& log) {
+Spawned spawn(const std::vector<std::string>& argv, const fs::path& log, bool pipes = false) {
   std::vector<char*> args;
   for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
   args.push_back(nullptr);
   const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd < 0) throw IoError(log.string() + ": cannot open: " + std::strerror(errno));
+  int in[2] = {-1, -1}, out[2] = {-1, -1};
+  if (pipes && (::pipe2(in, O_CLOEXEC) != 0 || ::pipe2(out, O_CLOEXEC) != 0)) {
+    ::close(fd);
+    throw IoError(std::string("cannot make a pipe: ") + std::strerror(errno));
+  }
   const pid_t parent = ::getpid();
   const pid_t pid = ::fork();
   if (pid < 0) {
@@ -62,25 +68,244 @@ pid_t spawn(const std::vector<std::string>& argv, const fs::path& log) {
     ::setpgid(0, 0);
     ::prctl(PR_SET_PDEATHSIG, SIGTERM);
     if (::getppid() != parent) ::_exit(127);
-    ::dup2(fd, 1);
+    if (pipes) {
+      ::dup2(in[0], 0);
+      ::dup2(out[1], 1);
+    } else {
+      ::dup2(fd, 1);
+    }
     ::dup2(fd, 2);
     ::execv(args[0], args.data());
     ::_exit(127);
   }
   ::close(fd);
-  return pid;
+  Spawned child{pid};
+  if (pipes) {
+    ::close(in[0]);
+    ::close(out[1]);
+    child.to_child = in[1];
+    child.from_child = out[0];
+  }
+  return child;
+}
+
+// A run's end as the sweep reports it: exited with `code`, or killed by `signal`.
+std::string run_status(bool exited, int code_or_signal) {
+  if (exited) {
+    if (code_or_signal == 0) return "done";
+    if (code_or_signal > 128) return fmt::format("stopped (signal {})", code_or_signal - 128);
+    return fmt::format("failed (exit {})", code_or_signal);
+  }
+  return fmt::format("killed (signal {})", code_or_signal);
 }
 
 std::string exit_status(int status) {
-  if (WIFEXITED(status)) {
-    const int code = WEXITSTATUS(status);
-    if (code == 0) return "done";
-    if (code > 128) return fmt::format("stopped (signal {})", code - 128);
-    return fmt::format("failed (exit {})", code);
-  }
-  if (WIFSIGNALED(status)) return fmt::format("killed (signal {})", WTERMSIG(status));
+  if (WIFEXITED(status)) return run_status(true, WEXITSTATUS(status));
+  if (WIFSIGNALED(status)) return run_status(false, WTERMSIG(status));
   return "failed";
 }
+
+// Where the sweep's runs execute: `bakesim run` processes here, or tasks on
+// a Dask cluster. Both take a run's command line and its log file and say
+// when it ends; the sweep around them is the same.
+class RunLauncher {
+ public:
+  virtual ~RunLauncher() = default;
+  virtual void start(std::size_t run, const std::vector<std::string>& argv, const fs::path& log) = 0;
+  // Waits up to `wait` for runs to end; returns those that did, with their status.
+  virtual std::vector<std::pair<std::size_t, std::string>> wait_for_ends(std::chrono::milliseconds wait) = 0;
+  // Passes a signal on to every run started and not ended (each checkpoints and stops).
+  virtual void signal_runs(int sig) = 0;
+};
+
+class ProcessLauncher final : public RunLauncher {
+ public:
+  void start(std::size_t run, const std::vector<std::string>& argv, const fs::path& log) override {
+    running_.emplace_back(run, spawn(argv, log).pid);
+  }
+  std::vector<std::pair<std::size_t, std::string>> wait_for_ends(std::chrono::milliseconds wait) override {
+    std::this_thread::sleep_for(wait);
+    std::vector<std::pair<std::size_t, std::string>> ended;
+    for (std::size_t k = 0; k < running_.size();) {
+      int st = 0;
+      if (::waitpid(running_[k].second, &st, WNOHANG) != running_[k].second) {
+        ++k;
+        continue;
+      }
+      ended.emplace_back(running_[k].first, exit_status(st));
+      running_.erase(running_.begin() + long(k));
+    }
+    return ended;
+  }
+  void signal_runs(int sig) override {
+    for (const auto& [run, pid] : running_) ::kill(pid, sig);
+  }
+
+ private:
+  std::vector<std::pair<std::size_t, pid_t>> running_;
+};
+
+// The runs as tasks on a dask.distributed cluster, through the Python
+// module's helper (python/bakesim/dask_runs.py: its line protocol is there).
+class DaskLauncher final : public RunLauncher {
+ public:
+  // Starts the helper and waits for it to connect. Throws IoError when it
+  // cannot; `unavailable` is set when Dask or the module is not installed.
+  DaskLauncher(const std::string& scheduler, int local_workers, const std::string& self, const fs::path& log,
+               bool& unavailable) {
+    unavailable = false;
+    std::vector<std::string> argv = {kPython,
+                                     "-m",
+                                     "bakesim.dask_runs",
+                                     "--scheduler",
+                                     scheduler,
+                                     "--workers",
+                                     std::to_string(std::max(1, local_workers))};
+    // The module next to this executable in a build tree (build/app/bakesim, build/python/bakesim), else
+    // where `cmake --install` put it.
+    const fs::path build_tree = fs::path(self).parent_path().parent_path() / "python";
+    std::error_code ec;
+    const char* old = std::getenv("PYTHONPATH");
+    const std::string saved = old ? old : "";
+    if (fs::is_regular_file(build_tree / "bakesim" / "dask_runs.py", ec))
+      ::setenv("PYTHONPATH", (build_tree.string() + (saved.empty() ? "" : ":" + saved)).c_str(), 1);
+    helper_ = spawn(argv, log, true);
+    if (old)
+      ::setenv("PYTHONPATH", saved.c_str(), 1);
+    else
+      ::unsetenv("PYTHONPATH");
+    // Connecting to a remote scheduler may take Dask's own 30 s timeout.
+    for (const Stopwatch clock; clock.seconds() < 60;) {
+      for (const std::string& line : read_lines(std::chrono::milliseconds(200))) {
+        const json message = json::parse(line, nullptr, false);
+        if (message.is_object() && message.contains("ready")) {
+          slots_ = message.value("slots", 1);
+          scheduler_ = message.value("scheduler", scheduler);
+          return;
+        }
+        if (message.is_object() && message.contains("unavailable")) {
+          unavailable = true;
+          close_helper();
+          throw IoError("sweep on Dask: " + message.value("unavailable", std::string()) +
+                        " (Debian: python3-distributed)");
+        }
+      }
+      int st = 0;
+      if (::waitpid(helper_.pid, &st, WNOHANG) == helper_.pid) {
+        helper_.pid = -1;
+        // The module itself missing (not built, not installed) is "unavailable" too.
+        const std::string text = read_file(log, 1 << 20);
+        unavailable = text.find("No module named 'bakesim") != std::string::npos;
+        close_helper();
+        throw IoError(fmt::format("sweep on Dask: the helper ended before it connected ({}): see {}", exit_status(st),
+                                  log.string()));
+      }
+    }
+    close_helper();
+    throw IoError("sweep on Dask: no connection to the scheduler " + scheduler + " within 60 s (see " + log.string() +
+                  ")");
+  }
+  ~DaskLauncher() override { close_helper(); }
+
+  int slots() const { return slots_; }
+  const std::string& scheduler() const { return scheduler_; }
+
+  void start(std::size_t run, const std::vector<std::string>& argv, const fs::path& log) override {
+    std::error_code ec;
+    send({{"start", run}, {"argv", argv}, {"log", fs::absolute(log).string()}, {"cwd", fs::current_path(ec).string()}});
+    ++in_flight_;
+  }
+  std::vector<std::pair<std::size_t, std::string>> wait_for_ends(std::chrono::milliseconds wait) override {
+    std::vector<std::pair<std::size_t, std::string>> ended;
+    for (const std::string& line : read_lines(wait)) {
+      const json message = json::parse(line, nullptr, false);
+      if (!message.is_object() || !message.contains("finished")) continue;
+      const auto run = message["finished"].get<std::size_t>();
+      std::string status;
+      if (message.contains("returncode")) {
+        const int code = message["returncode"].get<int>();
+        status = code >= 0 ? run_status(true, code) : run_status(false, -code);
+      } else {
+        status = "failed (Dask: " + message.value("error", std::string("unknown")) + ")";
+      }
+      ended.emplace_back(run, status);
+      --in_flight_;
+    }
+    // The helper gone: the runs it held cannot report any more.
+    if (helper_.pid > 0 && in_flight_ > 0) {
+      int st = 0;
+      if (::waitpid(helper_.pid, &st, WNOHANG) == helper_.pid) {
+        helper_.pid = -1;
+        throw IoError("sweep on Dask: the helper ended with runs still out (" + exit_status(st) + ")");
+      }
+    }
+    return ended;
+  }
+  void signal_runs(int sig) override { send({{"signal", sig}}); }
+
+ private:
+  static constexpr const char* kPython = "/usr/bin/python3";
+
+  void send(const json& message) {
+    const std::string line = message.dump() + "\n";
+    std::size_t done = 0;
+    while (done < line.size()) {
+      const ssize_t n = ::write(helper_.to_child, line.data() + done, line.size() - done);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) throw IoError(std::string("sweep on Dask: cannot reach the helper: ") + std::strerror(errno));
+      done += std::size_t(n);
+    }
+  }
+  // Complete lines from the helper, waiting up to `wait` for the first.
+  std::vector<std::string> read_lines(std::chrono::milliseconds wait) {
+    std::vector<std::string> lines;
+    pollfd p{helper_.from_child, POLLIN, 0};
+    if (helper_.from_child >= 0 && ::poll(&p, 1, int(wait.count())) > 0) {
+      char chunk[4096];
+      const ssize_t n = ::read(helper_.from_child, chunk, sizeof chunk);
+      if (n > 0) buffer_.append(chunk, std::size_t(n));
+      if (n == 0) {  // end of its output: do not poll a closed pipe in a tight loop
+        ::close(helper_.from_child);
+        helper_.from_child = -1;
+      }
+    } else if (helper_.from_child < 0) {
+      std::this_thread::sleep_for(wait);
+    }
+    for (std::size_t eol; (eol = buffer_.find('\n')) != std::string::npos;) {
+      lines.push_back(buffer_.substr(0, eol));
+      buffer_.erase(0, eol + 1);
+    }
+    return lines;
+  }
+  // End of input tells the helper to stop what still runs and exit; it is waited for.
+  void close_helper() {
+    if (helper_.to_child >= 0) ::close(helper_.to_child);
+    helper_.to_child = -1;
+    if (helper_.pid > 0) {
+      int st = 0;
+      for (const Stopwatch clock; clock.seconds() < 30;) {
+        if (::waitpid(helper_.pid, &st, WNOHANG) == helper_.pid) {
+          helper_.pid = -1;
+          break;
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+      }
+      if (helper_.pid > 0) {
+        ::kill(helper_.pid, SIGKILL);
+        ::waitpid(helper_.pid, &st, 0);
+        helper_.pid = -1;
+      }
+    }
+    if (helper_.from_child >= 0) ::close(helper_.from_child);
+    helper_.from_child = -1;
+  }
+
+  Spawned helper_;
+  std::string buffer_;
+  std::string scheduler_;
+  int slots_ = 1;
+  int in_flight_ = 0;
+};
 
 // Frames written so far by the run in `dir` (rows of its stats.csv).
 int frames_written(const fs::path& dir) {
@@ -92,38 +317,7 @@ int frames_written(const fs::path& dir) {
 
 }  // namespace
 
-namespace {
-// `--dask`: the same sweep handed to the Python module, which runs it on a
-// dask.distributed cluster. The module is found next to this executable in
-// a build tree (build/app/bakesim, build/python/bakesim) or where
-// `cmake --install` put it.
-int sweep_on_dask(const SweepArgs& a, const std::string& self) {
-  const char* python = "/usr/bin/python3";
-  std::vector<std::string> argv = {python, "-m", "bakesim", "sweep", a.scene, "--scheduler", a.dask};
-  for (const auto& s : a.sets) argv.insert(argv.end(), {"--set", s});
-  if (!a.out.empty()) argv.insert(argv.end(), {"--out", a.out});
-  if (a.threads > 0) argv.insert(argv.end(), {"--threads", std::to_string(a.threads)});
-  if (a.end_time > 0) argv.insert(argv.end(), {"--end-time", fmt::format("{:.17g}", a.end_time)});
-  if (a.preview) argv.push_back("--preview");
-  if (a.quiet) argv.push_back("--quiet");
-  const fs::path build_tree = fs::path(self).parent_path().parent_path() / "python";
-  std::error_code ec;
-  if (fs::is_regular_file(build_tree / "bakesim" / "__init__.py", ec)) {
-    const char* old = std::getenv("PYTHONPATH");
-    const std::string path = build_tree.string() + (old && *old ? std::string(":") + old : "");
-    ::setenv("PYTHONPATH", path.c_str(), 1);
-  }
-  std::vector<char*> args;
-  for (auto& s : argv) args.push_back(s.data());
-  args.push_back(nullptr);
-  ::execv(python, args.data());
-  throw IoError(std::string("sweep --dask: cannot start ") + python + ": " + std::strerror(errno) +
-                " (Debian: python3, python3-distributed, and the bakesim module: docs/python.md)");
-}
-}  // namespace
-
 int command_sweep(const SweepArgs& a, const std::string& self) {
-  if (!a.dask.empty()) return sweep_on_dask(a, self);
   std::vector<SweepAxis> axes;
   for (const auto& s : a.sets) axes.push_back(parse_sweep_axis(s));
   const std::vector<SweepPoint> points = sweep_points(axes);
@@ -189,15 +383,46 @@ int command_sweep(const SweepArgs& a, const std::string& self) {
     queue.push_back(i);
   }
   const int hw = static_cast<int>(tbb::info::default_concurrency());
-  const int jobs = std::max(1, a.jobs > 0 ? a.jobs : std::min<int>(hw, std::max<int>(1, int(queue.size()))));
-  const int threads = a.threads > 0 ? a.threads : std::max(1, hw / jobs);
+  const int local_jobs = std::max(1, a.jobs > 0 ? a.jobs : std::min<int>(hw, std::max<int>(1, int(queue.size()))));
+  int jobs = local_jobs;
+  int threads = a.threads > 0 ? a.threads : std::max(1, hw / jobs);
+  // On Dask (a LocalCluster unless --dask names a scheduler) where the Python module and
+  // python3-distributed are installed, else (or with --processes) as processes here.
+  std::unique_ptr<RunLauncher> launcher;
+  std::string where = "as processes here";
+  if (!a.processes && !queue.empty()) {
+    const std::string scheduler = a.dask.empty() ? "local" : a.dask;
+    bool unavailable = false;
+    try {
+      auto dask = std::make_unique<DaskLauncher>(scheduler, local_jobs, self, dir / "logs" / "dask.txt", unavailable);
+      if (scheduler != "local") {
+        // A cluster's size is its workers' threads, one run on each; a run's threads are its own.
+        jobs = a.jobs > 0 ? a.jobs : std::max(1, dask->slots());
+        threads = a.threads > 0 ? a.threads : 1;
+        where = "on the Dask scheduler " + dask->scheduler();
+      } else {
+        where = "on a Dask LocalCluster";
+      }
+      launcher = std::move(dask);
+    } catch (const IoError& e) {
+      if (!a.dask.empty()) throw;
+      if (!a.quiet)
+        fmt::print(stderr, "bakesim: {}{}: the runs go as processes here\n", e.what(),
+                   unavailable ? "" : " (dask.txt in the sweep's logs/)");
+    }
+  }
+  if (!launcher) launcher = std::make_unique<ProcessLauncher>();
   if (!a.quiet)
-    fmt::print(stderr, "bakesim: sweep of {} runs into {}/ ({} to run, {} at a time on {} thread{} each)\n",
-               points.size(), dir.string(), queue.size(), jobs, threads, threads == 1 ? "" : "s");
+    fmt::print(stderr, "bakesim: sweep of {} runs into {}/ ({} to run, {} at a time on {} thread{} each, {})\n",
+               points.size(), dir.string(), queue.size(), jobs, threads, threads == 1 ? "" : "s", where);
 
   g_sweep_signal = 0;
   for (const int sig : {SIGINT, SIGTERM, SIGHUP}) std::signal(sig, on_sweep_signal);
-  std::vector<Job> running;
+  struct Running {
+    std::size_t point;
+    Stopwatch clock;
+  };
+  std::vector<Running> running;
   std::size_t next = 0, finished = points.size() - queue.size();
   int forwarded = 0;
   Stopwatch since_status;
@@ -206,7 +431,7 @@ int command_sweep(const SweepArgs& a, const std::string& self) {
     const int sig = g_sweep_signal.load();
     if (sig != 0 && forwarded == 0) {
       forwarded = sig;  // each run checkpoints and stops after its frame
-      for (const Job& j : running) ::kill(j.pid, sig);
+      launcher->signal_runs(sig);
     }
     while (forwarded == 0 && next < queue.size() && int(running.size()) < jobs) {
       const std::size_t i = queue[next++];
@@ -229,34 +454,29 @@ int command_sweep(const SweepArgs& a, const std::string& self) {
                                              {"fingerprint", fingerprints[i]},
                                              {"status", "running"}};
       save_marker();
-      running.push_back({i, spawn(argv, dir / "logs" / (points[i].directory + ".txt")), {}});
+      launcher->start(i, argv, dir / "logs" / (points[i].directory + ".txt"));
+      running.push_back({i, {}});
       status[i] = "running";
     }
-    std::this_thread::sleep_for(std::chrono::milliseconds(200));
-    for (std::size_t k = 0; k < running.size();) {
-      int st = 0;
-      const pid_t got = ::waitpid(running[k].pid, &st, WNOHANG);
-      if (got != running[k].pid) {
-        ++k;
-        continue;
-      }
-      const std::size_t i = running[k].point;
-      status[i] = exit_status(st);
+    for (const auto& [i, ended_status] : launcher->wait_for_ends(std::chrono::milliseconds(200))) {
+      const auto it = std::find_if(running.begin(), running.end(), [&](const Running& r) { return r.point == i; });
+      if (it == running.end()) continue;
+      status[i] = ended_status;
       marker["runs"][points[i].directory]["status"] = status[i];
-      marker["runs"][points[i].directory]["wall_seconds"] = running[k].clock.seconds();
+      marker["runs"][points[i].directory]["wall_seconds"] = it->clock.seconds();
       save_marker();
       ++finished;
       if (!a.quiet)
         fmt::print(stderr, "bakesim: [{}/{}] {} {} after {}{}\n", finished, points.size(), points[i].label, status[i],
-                   format_duration(running[k].clock.seconds()),
+                   format_duration(it->clock.seconds()),
                    status[i] == "done"
                        ? ""
                        : fmt::format(" (see {})", (dir / "logs" / (points[i].directory + ".txt")).string()));
-      running.erase(running.begin() + long(k));
+      running.erase(it);
     }
     if (!a.quiet && !running.empty() && since_status.seconds() >= 60) {
       std::string line;
-      for (const Job& j : running) {
+      for (const Running& j : running) {
         const Scene& s = scenes[j.point];
         const int total = std::max(1, int(std::ceil(s.end_time * s.fps - 1e-9)));
         line += fmt::format("{}{} frame {}/{}", line.empty() ? "" : ", ", points[j.point].label,
@@ -266,6 +486,7 @@ int command_sweep(const SweepArgs& a, const std::string& self) {
       since_status.restart();
     }
   }
+  launcher.reset();  // the Dask helper and its cluster closed before the table is written
   for (const int sig : {SIGINT, SIGTERM, SIGHUP}) std::signal(sig, SIG_DFL);
 
   std::vector<render::SweepRun> runs;

@@ -1,5 +1,5 @@
-"""python3 -m bakesim sweep SCENE --set KEY=V1,V2,... [--scheduler local|ADDRESS]: a sweep on Dask
-(what `bakesim sweep --dask` runs)."""
+"""python3 -m bakesim sweep SCENE --set KEY=V1,V2,... [--scheduler local|ADDRESS]: bakesim.sweep
+(the Python sweep on Dask) from a shell. The command line's `bakesim sweep` uses bakesim.dask_runs."""
 import sys
 
 from .sweep import main as sweep_main

@@ -187,7 +187,7 @@ def sweep(scene, grid, client=None, out=None, threads=1, end_time=None, preview=
 
 def main(argv=None):
     """`python3 -m bakesim sweep SCENE --set KEY=V1,V2 ... [--scheduler local|ADDRESS]`
-    (what `bakesim sweep --dask` runs). Exit status 0 when every run is done, 1 otherwise."""
+    (bakesim.sweep from a shell; `bakesim sweep` hands its runs to bakesim.dask_runs). Exit status 0 when every run is done, 1 otherwise."""
     import argparse
     parser = argparse.ArgumentParser(prog="python3 -m bakesim sweep", description=main.__doc__)
     parser.add_argument("scene")
