@@ -30,44 +30,48 @@ Svd3 jacobi_svd(const Mat3& f) {
 
 namespace {
 
+// One Jacobi rotation in the (p, r) plane of a symmetric 3×3 matrix held as
+// its six entries (k the third index): zeroes a_pr and turns the columns p, r
+// of Q with it. The update is the textbook one on the entries the rotation
+// changes (a_pp, a_rr, a_kp, a_kr), with τ = s/(1 + c) for round-off
+// (Press et al., Numerical Recipes, §11.1): about a third of the operations
+// of turning the full matrix from both sides.
+template <int p, int r>
+inline void jacobi_rotate(Real& app, Real& arr, Real& apr, Real& akp, Real& akr, Mat3& q) {
+  if (apr == 0) return;
+  const Real theta = (arr - app) / (2 * apr);
+  const Real t = (theta >= 0 ? 1 : -1) / (std::abs(theta) + std::sqrt(theta * theta + 1));
+  const Real c = 1 / std::sqrt(t * t + 1), s = t * c, tau = s / (1 + c);
+  app -= t * apr;
+  arr += t * apr;
+  apr = 0;  // zero by construction; round-off would only slow the stop
+  const Real kp = akp, kr = akr;
+  akp = kp - s * (kr + tau * kp);
+  akr = kr + s * (kp - tau * kr);
+  for (int i = 0; i < 3; ++i) {
+    const Real qip = q(i, p), qir = q(i, r);
+    q(i, p) = qip - s * (qir + tau * qip);
+    q(i, r) = qir + s * (qip - tau * qir);
+  }
+}
+
 // Eigen-decomposition of a symmetric 3×3 matrix A = Q diag(λ) Qᵀ by cyclic
 // Jacobi rotations. MPM deformation gradients are close to rotations, so FᵀF
 // is close to diagonal in a few rotations; Jacobi is also accurate for nearly
 // equal eigenvalues, where closed-form solutions lose the eigenvectors.
-void symmetric_eigen(Mat3 a, Mat3& q, Vec3& lambda) {
+void symmetric_eigen(const Mat3& a, Mat3& q, Vec3& lambda) {
+  Real a00 = a(0, 0), a11 = a(1, 1), a22 = a(2, 2), a01 = a(0, 1), a02 = a(0, 2), a12 = a(1, 2);
   q.setIdentity();
   for (int sweep = 0; sweep < 12; ++sweep) {
-    const Real off = a(0, 1) * a(0, 1) + a(0, 2) * a(0, 2) + a(1, 2) * a(1, 2);
-    const Real diag = a(0, 0) * a(0, 0) + a(1, 1) * a(1, 1) + a(2, 2) * a(2, 2);
+    const Real off = a01 * a01 + a02 * a02 + a12 * a12;
+    const Real diag = a00 * a00 + a11 * a11 + a22 * a22;
     // Off-diagonals below 1e-12 of the diagonal: eigenvalues to 1e-24.
     if (off <= 1e-24 * diag) break;
-    for (int k = 0; k < 3; ++k) {
-      const int p = k == 2 ? 1 : 0, r = k == 0 ? 1 : 2;  // pairs (0,1), (0,2), (1,2)
-      const Real apr = a(p, r);
-      if (apr == 0) continue;
-      const Real theta = (a(r, r) - a(p, p)) / (2 * apr);
-      const Real t = (theta >= 0 ? 1 : -1) / (std::abs(theta) + std::sqrt(theta * theta + 1));
-      const Real c = 1 / std::sqrt(t * t + 1), s = t * c;
-      // A ← Gᵀ A G with G the rotation in the (p, r) plane.
-      for (int i = 0; i < 3; ++i) {
-        const Real aip = a(i, p), air = a(i, r);
-        a(i, p) = c * aip - s * air;
-        a(i, r) = s * aip + c * air;
-      }
-      for (int i = 0; i < 3; ++i) {
-        const Real api = a(p, i), ari = a(r, i);
-        a(p, i) = c * api - s * ari;
-        a(r, i) = s * api + c * ari;
-      }
-      a(p, r) = a(r, p) = 0;  // zero by construction; round-off would only slow the stop
-      for (int i = 0; i < 3; ++i) {
-        const Real qip = q(i, p), qir = q(i, r);
-        q(i, p) = c * qip - s * qir;
-        q(i, r) = s * qip + c * qir;
-      }
-    }
+    jacobi_rotate<0, 1>(a00, a11, a01, a02, a12, q);  // k = 2: a_k0 = a02, a_k1 = a12
+    jacobi_rotate<0, 2>(a00, a22, a02, a01, a12, q);  // k = 1: a_k0 = a01, a_k2 = a12
+    jacobi_rotate<1, 2>(a11, a22, a12, a01, a02, q);  // k = 0: a_k1 = a01, a_k2 = a02
   }
-  lambda = Vec3(a(0, 0), a(1, 1), a(2, 2));
+  lambda = Vec3(a00, a11, a22);
 }
 
 }  // namespace
