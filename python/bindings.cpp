@@ -462,7 +462,7 @@ PYBIND11_MODULE(_bakesim, m) {
       .def_property_readonly("threads", &Simulation::threads)
       .def_property_readonly("directory", &Simulation::directory)
       .def_property_readonly("solver", [](Simulation& s) { return s.solver().name(); })
-      .def_property_readonly("dt_bound", [](Simulation& s) { return s.solver().active_dt_bound(); })
+      .def_property_readonly("dt_bound", [](Simulation& s) { return std::string(s.solver().active_dt_bound()); })
       .def_property_readonly("scene",
                              [](Simulation& s) {
                                return PyScene{std::make_shared<Scene>(s.scene()), s.scene_dir()};

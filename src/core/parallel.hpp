@@ -6,7 +6,9 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <array>
 #include <cstddef>
+#include <type_traits>
 #include <vector>
 
 namespace bakesim {
@@ -28,21 +30,33 @@ void parallel_blocks(std::size_t n, Fn&& fn, std::size_t grain = 256) {
 }
 
 inline constexpr std::size_t kReductionChunk = 4096;
+// Chunk results of up to this many chunks (a million items) stay on the
+// stack: a reduction inside a step allocates nothing.
+inline constexpr std::size_t kStackChunks = 256;
 
 // Deterministic reduction. `chunk_fn(begin, end) -> T` reduces one chunk;
 // `combine(T, T) -> T` merges two chunk results, always in index order.
 template <class T, class ChunkFn, class Combine>
 T deterministic_reduce(std::size_t n, T identity, ChunkFn&& chunk_fn, Combine&& combine) {
   const std::size_t chunks = (n + kReductionChunk - 1) / kReductionChunk;
+  auto reduce_into = [&](T* partial) {
+    tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
+      const std::size_t b = c * kReductionChunk;
+      const std::size_t e = std::min(n, b + kReductionChunk);
+      partial[c] = chunk_fn(b, e);
+    });
+    T result = identity;
+    for (std::size_t c = 0; c < chunks; ++c) result = combine(result, partial[c]);
+    return result;
+  };
+  if constexpr (std::is_default_constructible_v<T>) {
+    if (chunks <= kStackChunks) {
+      std::array<T, kStackChunks> partial;
+      return reduce_into(partial.data());
+    }
+  }
   std::vector<T> partial(chunks, identity);
-  tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
-    const std::size_t b = c * kReductionChunk;
-    const std::size_t e = std::min(n, b + kReductionChunk);
-    partial[c] = chunk_fn(b, e);
-  });
-  T result = identity;
-  for (const T& p : partial) result = combine(result, p);
-  return result;
+  return reduce_into(partial.data());
 }
 
 // Σ term(i) over [0, n) of any type with + (a number, a vector), starting

@@ -126,15 +126,17 @@ PcgResult<Value> solve_pcg(std::size_t n, Apply&& apply, Active&& active, const 
 }
 
 // The failure policy's error: `what` names the solve, `setting` the key to raise.
-template <class Value>
-void require_acceptable(const PcgResult<Value>& result, const Value& b_norm2, const std::string& what,
-                        const std::string& setting) {
+// `describe()` names the solve in the message; it runs only when the solve
+// failed, so a step that converges formats nothing (and allocates nothing).
+template <class Value, class Describe>
+void require_acceptable(const PcgResult<Value>& result, const Value& b_norm2, Describe&& describe,
+                        const char* setting) {
   if (result.acceptable()) return;
   Real worst = 0;
   for (int c = 0; c < pcg_detail::size(b_norm2); ++c)
     worst = std::max(worst, std::sqrt(pcg_detail::at(result.residual2, c) / (pcg_detail::at(b_norm2, c) + 1e-30)));
-  throw SimulationError(fmt::format("{} did not converge in {} iterations (relative residual {:.3g}); raise {}", what,
-                                    result.iterations, worst, setting));
+  throw SimulationError(fmt::format("{} did not converge in {} iterations (relative residual {:.3g}); raise {}",
+                                    describe(), result.iterations, worst, setting));
 }
 
 }  // namespace bakesim

@@ -16,8 +16,9 @@ class Solver {
   virtual std::string name() const = 0;
   // Largest stable time step for the current state (s).
   virtual Real max_stable_dt() = 0;
-  // Which bound limited the last max_stable_dt() ("cfl", "viscosity", ...).
-  virtual std::string active_dt_bound() const = 0;
+  // Which bound limited the last max_stable_dt() ("cfl", "viscosity", ...): a
+  // name with static storage, so asking every step allocates nothing.
+  virtual const char* active_dt_bound() const = 0;
   // Advances the state by dt; throws SimulationError on an invalid state.
   virtual void step(Real dt) = 0;
   virtual Real time() const = 0;

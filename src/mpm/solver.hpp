@@ -43,7 +43,7 @@ class MpmSolver final : public Solver {
 
   std::string name() const override { return "mpm"; }
   Real max_stable_dt() override;
-  std::string active_dt_bound() const override { return dt_bound_; }
+  const char* active_dt_bound() const override { return dt_bound_; }
   void step(Real dt) override;
   Real time() const override { return time_; }
   const ParticleSet& particles() const override { return particles_; }
@@ -198,7 +198,7 @@ class MpmSolver final : public Solver {
   ColliderTemperatures collider_temperatures_;  // per collider at the current bake time
   Real time_ = 0;
   std::size_t steps_ = 0;
-  std::string dt_bound_ = "max_dt";
+  const char* dt_bound_ = "max_dt";
   Real max_wave_speed_ = 0;
   bool moist_ = false;                           // a material carries moisture (physics/water.hpp)
   std::vector<Real> latent_step_, boiled_step_;  // per particle in one G2P: latent heat given up (J), water boiled (kg)

@@ -1,5 +1,7 @@
 #include "sim/frame_loop.hpp"
 
+#include <cstring>
+
 #include <fmt/format.h>
 
 #include <cmath>
@@ -40,12 +42,12 @@ RunSummary run_frames(Solver& solver, const FrameLoopConfig& cfg, FrameObserver&
     observer.on_frame(info, solver);
     if (cfg.after_frame && !cfg.after_frame(info, solver)) summary.stopped = true;
   }
-  std::string bound;
+  const char* bound = "";  // the step's limiting bound, logged when it changes
   for (int f = cfg.start_frame + 1; f <= frames && !summary.stopped; ++f) {
     const Real target = std::min(cfg.end_time, f / cfg.fps);
     while (solver.time() < target - 1e-12) {
       Real dt = checked_stable_dt(solver, cfg.min_dt, info.steps);
-      if (solver.active_dt_bound() != bound) {
+      if (std::strcmp(solver.active_dt_bound(), bound) != 0) {
         bound = solver.active_dt_bound();
         log.info("t = {:.6f} s: time step {:.3e} s limited by {}", solver.time(), dt, bound);
       }

@@ -73,8 +73,8 @@ void CellGrid::sort(const std::vector<Vec3>& x, std::vector<std::uint32_t>& orde
   for (std::size_t c = 1; c < cell_start_.size(); ++c) cell_start_[c] += cell_start_[c - 1];
   order.resize(n);
   // Stable placement keeps the previous order inside each cell: deterministic.
-  std::vector<std::uint32_t> fill(cell_start_.begin(), cell_start_.end() - 1);
-  for (std::size_t i = 0; i < n; ++i) order[fill[cell_index_[i]]++] = static_cast<std::uint32_t>(i);
+  cell_fill_.assign(cell_start_.begin(), cell_start_.end() - 1);  // kept: a sort allocates nothing
+  for (std::size_t i = 0; i < n; ++i) order[cell_fill_[cell_index_[i]]++] = static_cast<std::uint32_t>(i);
 }
 
 NeighbourSearch::NeighbourSearch(NeighbourMethod method, const Aabb& domain, Real support)

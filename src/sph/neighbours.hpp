@@ -71,6 +71,7 @@ class CellGrid {
   int nx_ = 1, ny_ = 1, nz_ = 1;
   std::vector<std::uint32_t> cell_start_;
   std::vector<std::uint32_t> cell_index_;
+  std::vector<std::uint32_t> cell_fill_;  // the sort's next free slot per cell
 };
 
 class NeighbourSearch {

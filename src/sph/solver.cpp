@@ -369,7 +369,7 @@ Mat3 SphSolver::velocity_gradient(std::size_t i) const {
 
 // ---- driver ------------------------------------------------------------------
 
-std::vector<std::pair<std::string, Real>> SphSolver::time_step_bounds() const {
+SphSolver::StepBounds SphSolver::time_step_bounds() const {
   const Settings& s = setup_.settings;
   struct Extremes {
     Real v2 = 0, a2 = 0, nu = 0, shear = 0, h = std::numeric_limits<Real>::infinity();
@@ -393,13 +393,13 @@ std::vector<std::pair<std::string, Real>> SphSolver::time_step_bounds() const {
       });
   // Classical smoothing length ħ = h/2 of the smallest support.
   const Real hs = 0.5 * std::min(h_, e.h);
-  std::vector<std::pair<std::string, Real>> bounds;
-  bounds.emplace_back("max_dt", s.max_dt);
-  bounds.emplace_back("cfl", s.cfl * hs / (s.speed_of_sound + std::sqrt(e.v2)));
+  StepBounds bounds;
+  bounds.add("max_dt", s.max_dt);
+  bounds.add("cfl", s.cfl * hs / (s.speed_of_sound + std::sqrt(e.v2)));
   // Shear waves of the Maxwell stress travel at sqrt(μ_e/ρ).
-  if (e.shear > 0) bounds.emplace_back("elastic", s.cfl * hs / std::sqrt(e.shear));
-  if (e.nu > 0 && !implicit_viscosity_) bounds.emplace_back("viscosity", s.viscous_factor * hs * hs / e.nu);
-  if (e.a2 > 0) bounds.emplace_back("force", s.force_factor * std::sqrt(hs / std::sqrt(e.a2)));
+  if (e.shear > 0) bounds.add("elastic", s.cfl * hs / std::sqrt(e.shear));
+  if (e.nu > 0 && !implicit_viscosity_) bounds.add("viscosity", s.viscous_factor * hs * hs / e.nu);
+  if (e.a2 > 0) bounds.add("force", s.force_factor * std::sqrt(hs / std::sqrt(e.a2)));
   if (s.heat_conduction) {
     Real alpha = 0;  // thermal diffusivity k / (ρ c_p), largest over materials
     for (const Material& m : setup_.materials) {
@@ -410,7 +410,7 @@ std::vector<std::pair<std::string, Real>> SphSolver::time_step_bounds() const {
       alpha = std::max(alpha, (m.conductivity + k_cell) / (m.rest_density * m.specific_heat));
     }
     alpha = setup_.oven.bake_step(alpha);  // heat runs on the bake clock
-    if (alpha > 0) bounds.emplace_back("conduction", s.conduction_factor * hs * hs / alpha);
+    if (alpha > 0) bounds.add("conduction", s.conduction_factor * hs * hs / alpha);
   }
   if (moist_) {
     // The vapour's coupled heat–water diffusivity at the hottest moist temperature
@@ -436,7 +436,7 @@ std::vector<std::pair<std::string, Real>> SphSolver::time_step_bounds() const {
       d = std::max(d, pw.step_diffusivity(tmax, m.rest_density, m.specific_heat, jmax));
     }
     d = setup_.oven.bake_step(d);
-    if (d > 0) bounds.emplace_back("vapour_diffusion", s.conduction_factor * hs * hs / d);
+    if (d > 0) bounds.add("vapour_diffusion", s.conduction_factor * hs * hs / d);
   }
   return bounds;
 }

@@ -45,9 +45,22 @@ class SphSolver final : public Solver {
 
   std::string name() const override { return "sph"; }
   Real max_stable_dt() override;
-  std::string active_dt_bound() const override { return dt_bound_; }
+  const char* active_dt_bound() const override { return dt_bound_; }
   // Every time-step bound with its value (s): max_dt, cfl, viscosity, force.
-  std::vector<std::pair<std::string, Real>> time_step_bounds() const;
+  // The stable-step bounds of the current state, by name (a fixed list: the
+  // frame loop asks every step).
+  struct StepBound {
+    const char* name;
+    Real dt;
+  };
+  struct StepBounds {
+    std::array<StepBound, 8> list{};
+    std::size_t count = 0;
+    void add(const char* name, Real dt) { list[count++] = {name, dt}; }
+    const StepBound* begin() const { return list.data(); }
+    const StepBound* end() const { return list.data() + count; }
+  };
+  StepBounds time_step_bounds() const;
   void step(Real dt) override;
   Real time() const override { return time_; }
   const ParticleSet& particles() const override { return particles_; }
@@ -268,7 +281,7 @@ class SphSolver final : public Solver {
       t_xsph_, t_viscosity_, t_heat_, t_water_ = 0, t_browning_, t_properties_, t_smoothing_, t_check_;
   Real time_ = 0.0;
   long steps_ = 0;
-  std::string dt_bound_ = "cfl";
+  const char* dt_bound_ = "cfl";
 };
 
 }  // namespace bakesim::sph

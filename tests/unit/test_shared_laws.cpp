@@ -346,7 +346,9 @@ TEST(Pcg, SolvesScalarAndThreeComponentSystemsAndReportsWhatFailed) {
   const PcgResult<Real> short_run = solve_pcg<Real>(n, apply, all, diag, b, x2, 1e-24, 2, w);
   EXPECT_EQ(short_run.iterations, 2);
   EXPECT_FALSE(short_run.acceptable());
-  EXPECT_THROW(require_acceptable(short_run, 1.0, "test solve", "max_iterations"), SimulationError);
+  EXPECT_THROW(require_acceptable(
+                   short_run, 1.0, [] { return std::string("test solve"); }, "max_iterations"),
+               SimulationError);
 }
 
 TEST(PairConduction, FlowsFromHotToColdAndIsAntisymmetric) {

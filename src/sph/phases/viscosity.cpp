@@ -85,8 +85,9 @@ void SphSolver::phase_viscosity(Real dt) {
       n, apply, [](std::size_t) { return true; }, diag, viscosity_rhs_, v_, stop,
       setup_.settings.implicit_max_iterations, viscosity_pcg_);
   viscosity_iterations_ = result.iterations;
-  require_acceptable(result, b_norm2, fmt::format("SPH step {} (t = {:.6g} s): implicit viscosity", steps_, time_),
-                     "solver.sph.implicit_viscosity.max_iterations");
+  require_acceptable(
+      result, b_norm2, [&] { return fmt::format("SPH step {} (t = {:.6g} s): implicit viscosity", steps_, time_); },
+      "solver.sph.implicit_viscosity.max_iterations");
 }
 
 // b = M v* (plus the no-slip walls' v_wall terms); the solve starts from v*
@@ -169,9 +170,10 @@ void SphSolver::solve_stress_viscosity(Real dt, const std::vector<Real>& diag) {
       n, apply, [](std::size_t) { return true; }, diag, viscosity_rhs_, v_, stop,
       setup_.settings.implicit_max_iterations, viscosity_pcg_);
   viscosity_iterations_ = result.iterations;
-  require_acceptable(result, b_norm2,
-                     fmt::format("SPH step {} (t = {:.6g} s): implicit stress-form viscosity", steps_, time_),
-                     "solver.sph.implicit_viscosity.max_iterations");
+  require_acceptable(
+      result, b_norm2,
+      [&] { return fmt::format("SPH step {} (t = {:.6g} s): implicit stress-form viscosity", steps_, time_); },
+      "solver.sph.implicit_viscosity.max_iterations");
 }
 
 }  // namespace bakesim::sph
