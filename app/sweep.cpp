@@ -197,6 +197,10 @@ class DaskLauncher final : public RunLauncher {
         const std::string text = read_file(log, 1 << 20);
         unavailable = text.find("No module named 'bakesim") != std::string::npos;
         close_helper();
+        if (unavailable)
+          throw IoError(
+              "sweep on Dask: the bakesim Python module is not installed (cmake --install build, or "
+              "PYTHONPATH=build/python; docs/python.md)");
         throw IoError(fmt::format("sweep on Dask: the helper ended before it connected ({}): see {}", exit_status(st),
                                   log.string()));
       }
