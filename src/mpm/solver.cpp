@@ -106,6 +106,7 @@ MpmSolver::MpmSolver(Setup setup)
     if (setup_.colliders[ci].contact.mode == ContactMode::sticky &&
         std::holds_alternative<PlaneCollider>(setup_.colliders[ci].geometry))
       sticky_planes_.push_back(ci);
+  sticky_world_.resize(sticky_planes_.size());
   blocks_.resize(nx_, ny_, nz_);
   periodicity_ = setup_.periodicity();
   if (periodicity_.any()) {

@@ -96,6 +96,13 @@ class MpmSolver final : public Solver {
   void push_inside_domain(std::size_t p);
   void mirror_sticky_planes();
   void add_wall_ghost_stress(Real dt);
+  // A sticky plane at a pose, in world coordinates: signed distance n·(x − p)
+  // (a plane's own signed distance, without a dispatch through the collider variant).
+  struct WorldPlane {
+    Vec3 normal, point;
+    Real distance(const Vec3& x) const { return normal.dot(x - point); }
+  };
+  WorldPlane world_plane(std::size_t collider, const RigidPose& pose) const;
   // Periodic axes (domain.periodic): the nodes of the guard layers beyond a
   // periodic face are images of nodes inside (index G + ((g − G) mod N)).
   // After P2G their sums are added to the node they image and copied back
@@ -179,6 +186,7 @@ class MpmSolver final : public Solver {
   std::vector<std::uint8_t> image_node_;    // per node: an image of a node inside (periodic axes only)
   std::vector<Vec4> mirror_velocity_;       // grid phase scratch: flow velocity and 1, or 0 (mirror_sticky_planes)
   std::vector<std::size_t> sticky_planes_;  // the colliders that are sticky planes (mirror_sticky_planes, ghosts)
+  std::vector<WorldPlane> sticky_world_;    // grid phase scratch: those planes at this step's end pose
   std::vector<Real> ghost_distance_;        // P2G scratch: distance to a sticky plane, or 0 (add_wall_ghost_stress)
   // Particle indices of each material, rebuilt when particle memory is
   // reordered: the constitutive phase dispatches once per material group.

@@ -46,9 +46,9 @@ class SphSolver final : public Solver {
   std::string name() const override { return "sph"; }
   Real max_stable_dt() override;
   const char* active_dt_bound() const override { return dt_bound_; }
-  // Every time-step bound with its value (s): max_dt, cfl, viscosity, force.
-  // The stable-step bounds of the current state, by name (a fixed list: the
-  // frame loop asks every step).
+  // Every time-step bound of the current state with its value (s): max_dt,
+  // cfl, elastic, viscosity, force, conduction, vapour_diffusion (a fixed
+  // list of at most seven: the frame loop asks every step).
   struct StepBound {
     const char* name;
     Real dt;

@@ -150,9 +150,15 @@ void MpmSolver::phase_grid(Real dt) {
 // (Newtonian) to 8% (Bingham plug) at 20 cells across. Planes only: material
 // never belongs behind a plane, whereas grips (boxes, meshes) hold material
 // inside them and keep their own velocity there.
+MpmSolver::WorldPlane MpmSolver::world_plane(std::size_t collider, const RigidPose& pose) const {
+  const PlaneCollider& plane = std::get<PlaneCollider>(setup_.colliders[collider].geometry);
+  return {pose.rotation * plane.normal, pose.to_world(plane.point)};
+}
+
 void MpmSolver::mirror_sticky_planes() {
-  const std::vector<std::size_t>& planes = sticky_planes_;
-  if (planes.empty()) return;
+  if (sticky_planes_.empty()) return;
+  for (std::size_t k = 0; k < sticky_planes_.size(); ++k)
+    sticky_world_[k] = world_plane(sticky_planes_[k], collider_poses_[sticky_planes_[k]]);
   const std::size_t nz = nz_, syz = std::size_t(ny_) * nz_;
   const Real on_face = kNodeOnFace * dx_;
   auto node_position = [&](std::size_t k) {
@@ -160,10 +166,8 @@ void MpmSolver::mirror_sticky_planes() {
   };
   // Where the flow is: nodes with mass in front of every sticky plane (by more than on_face).
   auto in_front = [&](const Vec3& x) {
-    for (std::size_t ci : planes) {
-      const WallContact w = signed_distance(setup_.colliders[ci].geometry, collider_poses_[ci].to_rest(x));
-      if (w.distance < on_face) return false;
-    }
+    for (const WorldPlane& plane : sticky_world_)
+      if (plane.distance(x) < on_face) return false;
     return true;
   };
   mirror_velocity_.resize(grid_.size());
@@ -181,12 +185,12 @@ void MpmSolver::mirror_sticky_planes() {
         GridNode& node = grid_[k];
         if (node.mass <= 0) return;
         const Vec3 xi = node_position(k);
-        for (std::size_t ci : planes) {
-          const RigidPose& pose = collider_poses_[ci];
-          const WallContact w = signed_distance(setup_.colliders[ci].geometry, pose.to_rest(xi));
-          if (w.distance >= -on_face || w.distance < -2 * dx_) continue;  // on or in front of the face, or deep
-          const Vec3 n = pose.rotation * w.normal;
-          const Vec3 mirror = xi - 2 * w.distance * n;
+        for (std::size_t k = 0; k < sticky_planes_.size(); ++k) {
+          const RigidPose& pose = collider_poses_[sticky_planes_[k]];
+          const WorldPlane& plane = sticky_world_[k];
+          const Real distance = plane.distance(xi);
+          if (distance >= -on_face || distance < -2 * dx_) continue;  // on or in front of the face, or deep
+          const Vec3 mirror = xi - 2 * distance * plane.normal;
           // Trilinear over the flow nodes around the mirror point (weights renormalised).
           const Vec3 g = (mirror - grid_origin_) * inv_dx_;
           const Vec3 base = g.array().floor().matrix();

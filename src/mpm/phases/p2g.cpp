@@ -119,12 +119,11 @@ void MpmSolver::add_wall_ghost_stress(Real dt) {
   const Real d_inv = 4.0 * inv_dx_ * inv_dx_, reach = 1.5 * dx_, on_face = kNodeOnFace * dx_;
   for (std::size_t ci : sticky_planes_) {
     // The plane at this step's pose, in world coordinates (its normal is unit).
-    const RigidPose pose = setup_.colliders[ci].motion.at(time_);
-    const PlaneCollider& plane = std::get<PlaneCollider>(setup_.colliders[ci].geometry);
-    const Vec3 n = pose.rotation * plane.normal, point = pose.to_world(plane.point);
+    const WorldPlane plane = world_plane(ci, setup_.colliders[ci].motion.at(time_));
+    const Vec3 n = plane.normal;
     ghost_distance_.resize(x_.size());
     parallel_for(x_.size(), [&](std::size_t p) {
-      const Real d = n.dot(x_[p] - point);
+      const Real d = plane.distance(x_[p]);
       ghost_distance_[p] = d > 0 && d < reach ? d : Real(0);
     });
     for (std::size_t p = 0; p < x_.size(); ++p) {
@@ -142,7 +141,7 @@ void MpmSolver::add_wall_ghost_stress(Real dt) {
             const long ix = long(ax.base) + i, iy = long(ay.base) + j, iz = long(az.base) + k;
             if (ix < 0 || iy < 0 || iz < 0 || ix >= nx_ || iy >= ny_ || iz >= nz_) continue;
             const Vec3 xi = origin + dx_ * Vec3(Real(ix), Real(iy), Real(iz));
-            if (n.dot(xi - point) < on_face) continue;  // on or behind the plane: set by the grid update
+            if (plane.distance(xi) < on_face) continue;  // on or behind the plane: set by the grid update
             const Vec3 offset(i - ax.frac, j - ay.frac, k - az.frac);
             const Vec3 f = (ax.w[i] * ay.w[j] * az.w[k] * s) * (tau * offset);
             GridNode& node = grid_[std::size_t(ix) * syz + std::size_t(iy) * nz + std::size_t(iz)];
