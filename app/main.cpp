@@ -444,7 +444,8 @@ int main(int argc, char** argv) {
   render_cmd->add_option("--mode", render_opt.mode, "mesh (the surface, default) or particles")
       ->check(CLI::IsMember({"mesh", "particles"}));
   render_cmd->add_option("--color,--colour", render_opt.colour,
-                         "browning (default), temperature, saturation, or any particle quantity");
+                         "browning, temperature, saturation, speed or any particle quantity (default: the scene's "
+                         "render.colour, else browning)");
   render_cmd->add_option("--range", render_range, "LOW,HIGH of the colour quantity");
   render_cmd->add_option("--method", render_method, "Surface method for --mode mesh: levelset or wyvill")
       ->check(CLI::IsMember({"levelset", "wyvill"}));

@@ -242,13 +242,14 @@ def mesh(run_dir, method="levelset", colour="browning", frames=None, voxel_ratio
     return done
 
 
-def render(run_dir, frames=None, all_frames=False, mode="mesh", colour="browning", movie=False, strip=False, cut="",
+def render(run_dir, frames=None, all_frames=False, mode="mesh", colour=None, movie=False, strip=False, cut="",
            camera=None, look_at=None, field_of_view=None, turntable=0):
     """Pictures into RUN_DIR/render/ as `bakesim render` draws them; returns the files written.
 
-    cut: "z" or "x=0.01" (--cut); camera, look_at: (x, y, z) in metres; field_of_view: degrees;
+    colour: None for the scene's render.colour (else browning); cut: "z" or "x=0.01" (--cut);
+    camera, look_at: (x, y, z) in metres; field_of_view: degrees;
     turntable: N views of each frame around the vertical axis."""
-    files, note = _bakesim._render(_os.fspath(run_dir), list(frames or []), all_frames, mode, colour, movie, strip,
+    files, note = _bakesim._render(_os.fspath(run_dir), list(frames or []), all_frames, mode, colour or "", movie, strip,
                                    cut, camera, look_at, field_of_view, int(turntable))
     return files
 

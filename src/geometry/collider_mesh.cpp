@@ -144,4 +144,25 @@ std::optional<Aabb> collider_rest_bounds(const ColliderGeometry& geometry) {
   return box;
 }
 
+TriangleMesh domain_tank_mesh(const Aabb& domain, const std::array<bool, 3>& periodic, const Vec3& viewer,
+                              Real thickness) {
+  TriangleMesh m;
+  for (int axis = 0; axis < 3; ++axis) {
+    if (periodic[std::size_t(axis)]) continue;
+    for (int side = 0; side < 2; ++side) {
+      // The face's outward normal is ±e_axis; the viewer sees its inner side when it lies inside the face's plane.
+      const Real face = side ? domain.max[axis] : domain.min[axis];
+      const bool sees_inner = side ? viewer[axis] < face : viewer[axis] > face;
+      if (!sees_inner) continue;
+      Aabb slab{Vec3(domain.min.array() - thickness), Vec3(domain.max.array() + thickness)};
+      if (side)
+        slab.min[axis] = face;
+      else
+        slab.max[axis] = face;
+      add_box(m, slab);
+    }
+  }
+  return m;
+}
+
 }  // namespace bakesim

@@ -378,6 +378,7 @@ ReportResult write_report_of(const fs::path& run_dir, const ReportOptions& o) {
     if (!missing.empty() && o.draw_pictures) {
       try {
         RenderRunOptions ro;
+        ro.colour = "browning";  // the report's pictures are its crust colour, whatever the scene draws
         ro.frames = missing;
         render_run(run_dir, ro);
       } catch (const std::exception& e) {
@@ -392,6 +393,7 @@ ReportResult write_report_of(const fs::path& run_dir, const ReportOptions& o) {
     if (!fs::is_regular_file(cut) && o.draw_pictures) {
       try {
         RenderRunOptions ro;
+        ro.colour = "browning";
         ro.frames = {last};
         ro.cut = "z";
         render_run(run_dir, ro);

@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 
 #include "core/errors.hpp"
+#include "geometry/collider_mesh.hpp"
 #include "io/files.hpp"
 
 namespace bakesim::render {
@@ -32,6 +33,8 @@ bool has_program(const std::string& name) {
   }
   return false;
 }
+
+Vec3 vec3_of(const nlohmann::json& a) { return Vec3(a[0].get<double>(), a[1].get<double>(), a[2].get<double>()); }
 
 std::string shell_quote(const std::string& s) {
   std::string q = "'";
@@ -64,6 +67,14 @@ RenderRunResult render_run(const fs::path& run_dir, const RenderRunOptions& o) {
   const auto& r = run.scene.contains("render") ? run.scene["render"] : nlohmann::json::object();
   settings.width = o.width.value_or(r.value("width", 1280));
   settings.height = o.height.value_or(r.value("height", 720));
+  // The colour: the command's, else the scene's render.colour with its range, else browning.
+  const std::string colour = !o.colour.empty() ? o.colour : r.value("colour", std::string("browning"));
+  std::optional<std::pair<Real, Real>> colour_range_given = o.range;
+  if (!colour_range_given && o.colour.empty() && r.contains("range")) {
+    colour_range_given = std::pair<Real, Real>(r["range"][0].get<double>(), r["range"][1].get<double>());
+    if (!(colour_range_given->first < colour_range_given->second))
+      throw InputError(run_dir.string() + ": scene.json: render.range", "LOW must be below HIGH");
+  }
   if (r.contains("camera")) {
     const auto& c = r["camera"];
     Camera cam;
@@ -82,13 +93,34 @@ RenderRunResult render_run(const fs::path& run_dir, const RenderRunOptions& o) {
   }
   bodies.min.array() -= geometry.spacing;
   bodies.max.array() += geometry.spacing;
+  // The domain walls as an open tank (render.domain_walls), the walls chosen for the camera of each picture.
+  ColliderLook tank_look = ColliderLook::hidden;
+  if (r.contains("domain_walls")) {
+    const std::string name = r["domain_walls"].get<std::string>();
+    const auto looks = {ColliderLook::metal, ColliderLook::ceramic, ColliderLook::glass, ColliderLook::wood,
+                        ColliderLook::hidden};
+    const auto it = std::find_if(looks.begin(), looks.end(), [&](ColliderLook l) { return to_string(l) == name; });
+    if (it == looks.end())
+      throw InputError((run_dir / "scene.json").string() + ": render.domain_walls",
+                       "unknown look '" + name + "' (hidden, metal, ceramic, glass, wood)");
+    tank_look = *it;
+  }
+  const auto tank_at = [&](const Vec3& viewer) {
+    const Aabb domain{vec3_of(run.scene["domain"]["min"]), vec3_of(run.scene["domain"]["max"])};
+    std::array<bool, 3> periodic{false, false, false};
+    for (const auto& axis : run.scene["domain"].value("periodic", nlohmann::json::array()))
+      periodic[std::size_t(axis.get<std::string>()[0] - 'x')] = true;
+    return Prop{domain_tank_mesh(domain, periodic, viewer, 2 * geometry.spacing), tank_look, true};
+  };
   const auto props_at = [&](int f) {
     std::vector<Prop> props;
     for (PosedCollider& c : posed_colliders(colliders, frame_time(run, f), bodies))
       props.push_back({std::move(c.mesh), c.look, c.bounded});
+    if (tank_look != ColliderLook::hidden && settings.camera) props.push_back(tank_at(settings.camera->position));
     return props;
   };
-  // One camera for the whole sequence: it frames every rendered frame's particles and the colliders near them.
+  // One camera for the whole sequence: it frames every rendered frame's particles and the colliders near them
+  // (and the tank's walls as a first camera, framing without them, sees them).
   if (!settings.camera) {
     Aabb box = bodies;
     for (int f : frames) {
@@ -98,7 +130,12 @@ RenderRunResult render_run(const fs::path& run_dir, const RenderRunOptions& o) {
           std::none_of(colliders.begin(), colliders.end(), [](const Collider& c) { return c.motion.moves(); }))
         break;  // every frame frames the same
     }
-    settings.camera = frame_camera(box, Real(settings.width) / Real(settings.height));
+    const Real aspect = Real(settings.width) / Real(settings.height);
+    if (tank_look != ColliderLook::hidden) {
+      const Aabb framed = framing_box(bodies, {tank_at(frame_camera(box, aspect).position)});
+      box.expand(framed.min), box.expand(framed.max);
+    }
+    settings.camera = frame_camera(box, aspect);
     if (o.camera_position && !o.look_at) settings.camera->look_at = 0.5 * (box.min + box.max);
   }
   if (o.camera_position) settings.camera->position = *o.camera_position;
@@ -109,8 +146,8 @@ RenderRunResult render_run(const fs::path& run_dir, const RenderRunOptions& o) {
   if (!o.cut.empty()) settings.cut = parse_cut_plane(o.cut, bodies);
   const TextRenderer text;
   MeshSettings mesh_opts;
-  mesh_opts.colour = o.colour;
-  mesh_opts.range = o.range;
+  mesh_opts.colour = colour;
+  mesh_opts.range = colour_range_given;
   mesh_opts.surface.method = o.method;
   const fs::path out_dir = run_dir / "render";
   ensure_directory(out_dir);
@@ -119,15 +156,15 @@ RenderRunResult render_run(const fs::path& run_dir, const RenderRunOptions& o) {
   const double bake_scale =
       run.scene.contains("environment") ? run.scene["environment"].value("bake_time_scale", 1.0) : 1.0;
   // The cut's axis names the pictures (parse_cut_plane accepted AXIS or AXIS=VALUE).
-  const std::string stem = o.mode + "-" + o.colour + (settings.cut ? "-cut-" + o.cut.substr(0, 1) : "");
+  const std::string stem = o.mode + "-" + colour + (settings.cut ? "-cut-" + o.cut.substr(0, 1) : "");
   // One frame's picture: with its colour bar and full caption, or (a strip's tile) with the bake time only.
   const auto draw = [&](int f, bool tile) {
     const ParticleSet ps = read_particle_frame(run.frames.at(f));
-    const auto range = colour_range(ps, o.colour, o.range);
+    const auto range = colour_range(ps, colour, colour_range_given);
     ColourBar bar;
-    bar.label = o.colour;
+    bar.label = colour;
     bar.low = range.first, bar.high = range.second;
-    bar.palette = colour_palette(o.colour);
+    bar.palette = colour_palette(colour);
     const double bake = frame_time(run, f) * bake_scale;
     const std::string when = bake >= 120 ? fmt::format("{:.1f} min", bake / 60) : fmt::format("{:.2f} s", bake);
     const std::string caption = tile ? when : fmt::format("{}   frame {}   bake {}", scene_name, f, when);
@@ -147,7 +184,7 @@ RenderRunResult render_run(const fs::path& run_dir, const RenderRunOptions& o) {
       return render_mesh(mesh, frame_settings, text, tile ? nullptr : &bar, caption, props_at(f));
     }
     ParticleView pv;
-    const std::vector<Real> values = particle_values(ps, o.colour);
+    const std::vector<Real> values = particle_values(ps, colour);
     for (std::size_t i = 0; i < ps.size(); ++i) {
       const Vec3& x = ps.vector("position")[i];
       if (settings.cut && settings.cut->removes(x)) continue;  // the cut view shows the particles behind the plane

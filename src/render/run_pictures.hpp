@@ -7,6 +7,9 @@
 //   MODE-COLOUR-NNNNN-turn-KKK.png  with --turntable N: N views around each frame
 //   MODE-COLOUR-cut-AXIS-NNNNN.png  with --cut: the part beyond a plane cut away,
 //                               the mesh's cut face coloured by the same quantity
+// The scene's `render` section gives the size, a fixed camera, the default
+// colour quantity and range, and the look of the domain walls (drawn as an
+// open tank: geometry/collider_mesh.hpp, domain_tank_mesh).
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -22,7 +25,8 @@ struct RenderRunOptions {
   std::vector<int> frames;  // empty: the last frame
   bool all_frames = false;
   std::string mode = "mesh";  // mesh or particles
-  std::string colour = "browning";
+  // Empty: the scene's render.colour (and render.range), else browning.
+  std::string colour;
   std::optional<std::pair<Real, Real>> range;
   surface::SurfaceMethod method = surface::SurfaceMethod::levelset;
   std::optional<int> width, height;  // override the scene's render size

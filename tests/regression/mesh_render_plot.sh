@@ -20,6 +20,16 @@ check '[ $? -eq 0 ] && grep -q "bakesim_heat.mtl" "$OUT/sph/meshes/00001.obj"' "
 check '[ $? -eq 0 ] && png "$OUT/sph/render/mesh-browning-00002.png"' "sph: render draws the last frame"
 "$BAKESIM" render "$OUT/sph" --mode particles --color temperature --all --strip --width 160 --height 90 2>/dev/null
 check '[ $? -eq 0 ] && png "$OUT/sph/render/particles-temperature-00000.png" && png "$OUT/sph/render/particles-temperature-strip.png"' "sph: particle pictures of every frame and a strip"
+# The scene's render section: its colour (and range) when --colour is not given, the domain drawn as a tank.
+"$BAKESIM" run "$ROOT/tests/data/good_small.json" --out "$OUT/tank" --quiet \
+  --set render.colour=speed --set 'render.range=[0,0.5]' --set render.domain_walls=metal
+"$BAKESIM" render "$OUT/tank" --width 160 --height 90 2>/dev/null
+check '[ $? -eq 0 ] && png "$OUT/tank/render/mesh-speed-00002.png"' "render uses the scene's render.colour"
+"$BAKESIM" render "$OUT/tank" --colour browning --width 160 --height 90 2>/dev/null
+check '[ $? -eq 0 ] && png "$OUT/tank/render/mesh-browning-00002.png" && ! cmp -s "$OUT/tank/render/mesh-browning-00002.png" "$OUT/sph/render/mesh-browning-00002.png"' "--colour wins over the scene's; the metal tank changes the picture"
+sed -i 's/"domain_walls": "metal"/"domain_walls": "marble"/' "$OUT/tank/scene.json"
+"$BAKESIM" render "$OUT/tank" 2>"$OUT/tank-err.txt"
+check '[ $? -eq 2 ] && grep -q "render.domain_walls" "$OUT/tank-err.txt"' "an unknown tank look is refused naming render.domain_walls (exit 2)"
 "$BAKESIM" plot "$OUT/sph" >"$OUT/plots.txt"
 check '[ $? -eq 0 ] && png "$OUT/sph/plots/temperatures.png"' "sph: plot writes temperatures.png"
 

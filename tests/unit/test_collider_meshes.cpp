@@ -2,12 +2,15 @@
 // each shape's mesh is closed and outward, lies on the collider's surface (its
 // signed distance is zero at every vertex) and holds the solid's volume (exact
 // for flat faces, the inscribed polygon's for round ones); moving colliders'
-// meshes follow their motion; domain walls and hidden colliders are not drawn.
+// meshes follow their motion; domain walls and hidden colliders are not drawn
+// as colliders, and the domain drawn as a tank has the walls a viewer looks into.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <utility>
+#include <vector>
 
 #include "core/errors.hpp"
 #include "geometry/collider_mesh.hpp"
@@ -128,4 +131,39 @@ TEST(ColliderMeshes, LooksDefaultByShapeAndUnknownNamesAreErrors) {
   }
   // The domain walls would hide the scene: no mesh.
   EXPECT_TRUE(collider_rest_mesh(InsideBoxCollider{{Vec3::Zero(), Vec3::Ones()}}, Vec3::Zero(), 1).triangles.empty());
+}
+
+// Issue 23: the domain as an open tank seen from a viewer outside, right, in
+// front and above: the floor, the left and the back wall, each a closed slab
+// outside the domain; nothing on a periodic axis; from inside, all six.
+TEST(ColliderMeshes, TheDomainTankHasTheFloorAndTheWallsWhoseInsideTheViewerSees) {
+  const Aabb domain{Vec3(0, 0, 0), Vec3(1, 0.5, 0.2)};
+  const Real t = 0.01;
+  const TriangleMesh tank = domain_tank_mesh(domain, {false, false, false}, Vec3(2, 1.5, 1), t);
+  ASSERT_EQ(tank.triangles.size(), 3u * 12u);
+  ASSERT_EQ(tank.vertices.size(), 3u * 8u);
+  EXPECT_TRUE(closed_and_oriented(tank));
+  std::vector<Aabb> slabs;
+  for (std::size_t k = 0; k < 3; ++k) {
+    Aabb b = Aabb::empty_box();
+    for (std::size_t v = 8 * k; v < 8 * k + 8; ++v) b.expand(tank.vertices[v]);
+    slabs.push_back(b);
+    // Outside the domain: the slab touches at most its face.
+    const Vec3 lo = b.min.cwiseMax(domain.min), hi = b.max.cwiseMin(domain.max);
+    EXPECT_LE((hi - lo).minCoeff(), 1e-15) << "slab " << k << " reaches inside";
+  }
+  const auto has = [&](const Vec3& lo, const Vec3& hi) {
+    return std::any_of(slabs.begin(), slabs.end(), [&](const Aabb& b) {
+      return (b.min - lo).norm() < 1e-12 && (b.max - hi).norm() < 1e-12;
+    });
+  };
+  EXPECT_TRUE(has(Vec3(-t, -t, -t), Vec3(0, 0.5 + t, 0.2 + t)));     // the wall at x = 0 (far from the viewer)
+  EXPECT_TRUE(has(Vec3(-t, -t, -t), Vec3(1 + t, 0, 0.2 + t)));       // the floor
+  EXPECT_TRUE(has(Vec3(-t, -t, -t), Vec3(1 + t, 0.5 + t, 0)));       // the wall at z = 0
+  EXPECT_EQ(tank.signed_volume() > 0, true);
+  // Periodic along x: no wall across it.
+  EXPECT_EQ(domain_tank_mesh(domain, {true, false, false}, Vec3(2, 1.5, 1), t).triangles.size(), 2u * 12u);
+  // From inside: every face; from below a floorless view: no floor.
+  EXPECT_EQ(domain_tank_mesh(domain, {false, false, false}, Vec3(0.5, 0.25, 0.1), t).triangles.size(), 6u * 12u);
+  EXPECT_EQ(domain_tank_mesh(domain, {false, false, false}, Vec3(0.5, -1, 0.1), t).triangles.size(), 5u * 12u);
 }

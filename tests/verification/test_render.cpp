@@ -173,6 +173,38 @@ TEST(Render, ABodyUnderGlassStaysVisible) {
   EXPECT_NE(bare.rgb, covered.rgb);
 }
 
+// Issue 23: the domain drawn as an open tank (render.domain_walls) shows its far
+// walls behind the body and never a wall in front of it.
+TEST(Render, TheDomainTankShowsItsFarWallsAndNeverHidesTheBody) {
+  surface::SurfaceMesh mesh = grey_ball();
+  mesh.colours.assign(mesh.vertices.size(), {40, 70, 200});  // a blue ball
+  RenderSettings settings;
+  settings.width = 200, settings.height = 150;
+  settings.camera = Camera{Vec3(0.02, 0.12, 0.25), Vec3(0, 0.03, 0), 40};
+  const TextRenderer text;
+  const Aabb domain{Vec3(-0.1, 0, -0.1), Vec3(0.1, 0.1, 0.1)};
+  Prop tank;
+  tank.mesh = domain_tank_mesh(domain, {false, false, false}, settings.camera->position, 0.004);
+  tank.look = ColliderLook::wood;
+  const Image bare = render_mesh(mesh, settings, text);
+  const Image in_tank = render_mesh(mesh, settings, text, nullptr, "", {tank});
+  int ball = 0, ball_still_blue = 0, wood_above_ball = 0, wood_bare = 0;
+  for (int y = 0; y < settings.height; ++y)
+    for (int x = 0; x < settings.width; ++x) {
+      const std::uint8_t* a = bare.at(x, y);
+      const std::uint8_t* b = in_tank.at(x, y);
+      wood_bare += woody(a);
+      if (y < settings.height / 3) wood_above_ball += woody(b);  // the back wall, above the ball
+      if (int(a[2]) < int(a[0]) + 60) continue;
+      ++ball;
+      ball_still_blue += int(b[2]) > int(b[0]) + 40;
+    }
+  ASSERT_GT(ball, 500);
+  EXPECT_EQ(wood_bare, 0);
+  EXPECT_GT(wood_above_ball, settings.width * settings.height / 3 / 4) << wood_above_ball;
+  EXPECT_GE(ball_still_blue, int(0.98 * ball)) << ball_still_blue << " of " << ball;
+}
+
 // Issue 23: the cut view of a half-hot sphere shows the colour ramp on its cut face.
 TEST(Render, TheCutFaceOfAHalfHotSphereShowsTheColourRamp) {
   const surface::SurfaceMesh mesh = grey_ball();  // radius 3 cm, centre (0, 0.03, 0), grey outside
