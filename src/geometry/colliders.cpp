@@ -267,9 +267,10 @@ ColliderLook default_look(const ColliderGeometry& geometry) {
 ColliderLook parse_collider_look(const std::string& name, const ColliderGeometry& geometry, const std::string& where) {
   if (name == "auto") return default_look(geometry);
   for (ColliderLook look :
-       {ColliderLook::metal, ColliderLook::ceramic, ColliderLook::glass, ColliderLook::wood, ColliderLook::hidden})
+       {ColliderLook::metal, ColliderLook::ceramic, ColliderLook::glass, ColliderLook::wood, ColliderLook::stone,
+        ColliderLook::hidden})
     if (to_string(look) == name) return look;
-  throw InputError(where, "unknown look '" + name + "' (auto, metal, ceramic, glass, wood, hidden)");
+  throw InputError(where, "unknown look '" + name + "' (auto, metal, ceramic, glass, wood, stone, hidden)");
 }
 
 Vec3 look_albedo(ColliderLook look) {
@@ -278,6 +279,7 @@ Vec3 look_albedo(ColliderLook look) {
     case ColliderLook::ceramic: return {0.80, 0.78, 0.72};  // glazed white
     case ColliderLook::glass: return {0.95, 0.98, 0.98};    // slightly tinted
     case ColliderLook::wood: return {0.42, 0.25, 0.12};     // a beech board
+    case ColliderLook::stone: return {0.16, 0.15, 0.14};    // dark basalt (a volcano, a baking stone)
     default: return {0.5, 0.5, 0.5};
   }
 }
@@ -288,6 +290,7 @@ std::string to_string(ColliderLook look) {
     case ColliderLook::ceramic: return "ceramic";
     case ColliderLook::glass: return "glass";
     case ColliderLook::wood: return "wood";
+    case ColliderLook::stone: return "stone";
     default: return "hidden";
   }
 }

@@ -94,9 +94,9 @@ struct MeshCollider {
 using ColliderGeometry = std::variant<PlaneCollider, BoxCollider, ContainerCollider, CylinderCollider, CupCollider,
                                       InsideBoxCollider, MeshCollider>;
 
-// What a collider is made of in pictures (render/): a pan, tray, plate, funnel
-// or board. `hidden` is not drawn (nor exported as a mesh).
-enum class ColliderLook { metal, ceramic, glass, wood, hidden };
+// What a collider is made of in pictures (render/): a pan, tray, plate, funnel,
+// board or rock. `hidden` is not drawn (nor exported as a mesh).
+enum class ColliderLook { metal, ceramic, glass, wood, stone, hidden };
 // The look a shape gets when the scene names none: planes are a wooden counter
 // or board, cylinders wood (a rolling pin, a grip), meshes ceramic, boxes,
 // containers and cups metal (trays, tins, pans).

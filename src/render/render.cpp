@@ -98,7 +98,7 @@ LookShading look_shading(ColliderLook look) {
     case ColliderLook::metal: return {0.35f, 40.0f, 0.35f};
     case ColliderLook::ceramic: return {0.3f, 90.0f, 0.06f};
     case ColliderLook::glass: return {0.6f, 150.0f, 0.0f};  // reflects by Fresnel's law instead
-    default: return {0.04f, 12.0f, 0.0f};                   // wood
+    default: return {0.04f, 12.0f, 0.0f};                   // wood, stone: rough
   }
 }
 
@@ -281,6 +281,48 @@ Image trace(RayScene& rs, const Aabb& bodies, const RenderSettings& s, const Sur
     n = along < 0 ? plane : Vec3f(-plane);
     return true;
   };
+  // Is the cut plane's point q inside a body? Then the first body surface along
+  // d from q is one of its back faces; props and the ground, which may overlap
+  // a body (a cake pressed against its pan), are passed through.
+  const auto inside_body = [&](const Vec3f& q, const Vec3f& d) {
+    float from = 0;
+    for (int passed = 0; passed < 64; ++passed) {
+      RTCIntersectContext ctx;
+      rtcInitIntersectContext(&ctx);
+      RTCRayHit h{};
+      h.ray.org_x = q.x(), h.ray.org_y = q.y(), h.ray.org_z = q.z();
+      h.ray.dir_x = d.x(), h.ray.dir_y = d.y(), h.ray.dir_z = d.z();
+      h.ray.tnear = from, h.ray.tfar = std::numeric_limits<float>::infinity(), h.ray.mask = 0xffffffffu;
+      h.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+      rtcIntersect1(rs.scene, &ctx, &h);
+      if (h.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+      const bool other = h.hit.geomID == rs.ground ||
+                         (h.hit.geomID < prop_of_geometry.size() && prop_of_geometry[h.hit.geomID] >= 0);
+      if (!other) {
+        Vec3f albedo, n;
+        surface_at(h.hit, albedo, n);
+        return n.dot(d) > 0;
+      }
+      from = std::nextafter(h.ray.tfar, std::numeric_limits<float>::infinity()) * (1 + 1e-6f);
+    }
+    return false;
+  };
+  // A prop or the ground seen through the cut where the ray crossed the plane
+  // inside a body first: the body's cut face shows there (the plane is nearer
+  // than anything kept); p, n and albedo move onto it.
+  const auto body_cut_face = [&](const Vec3f& origin, const Vec3f& dir, float far, Vec3f& p, Vec3f& n,
+                                 Vec3f& albedo) {
+    if (!cut || !s.cut_colour) return false;
+    const Vec3f plane = cut->normal.cast<float>();
+    const float along = plane.dot(dir);
+    if (std::abs(along) < 1e-8f) return false;
+    const float t = (float(cut->offset) - plane.dot(origin)) / along;
+    if (!(t >= 0 && t < far) || !inside_body(origin + t * dir, dir)) return false;
+    p = origin + t * dir;
+    n = along < 0 ? plane : Vec3f(-plane);
+    albedo = srgb_to_linear(s.cut_colour(p.cast<Real>()));
+    return true;
+  };
   Image img(s.width, s.height);
   const int n_side = std::max(1, int(std::lround(std::sqrt(double(s.samples)))));
   parallel_for(
@@ -304,11 +346,13 @@ Image trace(RayScene& rs, const Aabb& bodies, const RenderSettings& s, const Sur
                 break;
               }
               Vec3f p = origin + rh.ray.tfar * dir;
-              const bool ground = rh.hit.geomID == rs.ground;
+              bool ground = rh.hit.geomID == rs.ground;
               const int prop_index = rh.hit.geomID < prop_of_geometry.size() ? prop_of_geometry[rh.hit.geomID] : -1;
               const PlacedProp* prop = prop_index >= 0 ? &placed[std::size_t(prop_index)] : nullptr;
               Vec3f albedo, n;
-              if (ground) {
+              if ((ground || prop) && body_cut_face(origin, dir, rh.ray.tfar, p, n, albedo)) {
+                ground = false, prop = nullptr;  // p, n and albedo: the body's cut face
+              } else if (ground) {
                 albedo = Vec3f(0.78f, 0.76f, 0.73f);
                 n = Vec3f(0, 1, 0);
               } else if (prop) {

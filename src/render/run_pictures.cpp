@@ -97,12 +97,12 @@ RenderRunResult render_run(const fs::path& run_dir, const RenderRunOptions& o) {
   ColliderLook tank_look = ColliderLook::hidden;
   if (r.contains("domain_walls")) {
     const std::string name = r["domain_walls"].get<std::string>();
-    const auto looks = {ColliderLook::metal, ColliderLook::ceramic, ColliderLook::glass, ColliderLook::wood,
-                        ColliderLook::hidden};
+    const auto looks = {ColliderLook::metal, ColliderLook::ceramic, ColliderLook::glass,
+                        ColliderLook::wood,  ColliderLook::stone,   ColliderLook::hidden};
     const auto it = std::find_if(looks.begin(), looks.end(), [&](ColliderLook l) { return to_string(l) == name; });
     if (it == looks.end())
       throw InputError((run_dir / "scene.json").string() + ": render.domain_walls",
-                       "unknown look '" + name + "' (hidden, metal, ceramic, glass, wood)");
+                       "unknown look '" + name + "' (hidden, metal, ceramic, glass, wood, stone)");
     tank_look = *it;
   }
   const auto tank_at = [&](const Vec3& viewer) {
@@ -166,7 +166,9 @@ RenderRunResult render_run(const fs::path& run_dir, const RenderRunOptions& o) {
     bar.low = range.first, bar.high = range.second;
     bar.palette = colour_palette(colour);
     const double bake = frame_time(run, f) * bake_scale;
-    const std::string when = bake >= 120 ? fmt::format("{:.1f} min", bake / 60) : fmt::format("{:.2f} s", bake);
+    const std::string when = bake >= 120  ? fmt::format("{:.1f} min", bake / 60)
+                             : bake >= 10 ? fmt::format("{:.0f} s", bake)
+                                          : fmt::format("{:.2f} s", bake);
     const std::string caption = tile ? when : fmt::format("{}   frame {}   bake {}", scene_name, f, when);
     if (o.mode == "mesh") {
       const surface::SurfaceMesh mesh = frame_mesh(ps, geometry, mesh_opts);

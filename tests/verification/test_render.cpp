@@ -246,6 +246,34 @@ TEST(Render, TheCutFaceOfAHalfHotSphereShowsTheColourRamp) {
   EXPECT_NEAR(parse_cut_plane("y=0.01", box).offset, 0.01, 1e-15);
 }
 
+// A body pressed into a collider (a cake against its pan's wall: surfaces
+// overlap by about a particle radius) still shows its whole cut face: the
+// collider's face behind the plane, inside the body, does not cover it.
+TEST(Render, TheCutFaceShowsWhereAColliderOverlapsTheBody) {
+  const surface::SurfaceMesh mesh = grey_ball();  // radius 3 cm, centre (0, 0.03, 0)
+  RenderSettings settings;
+  settings.width = 200, settings.height = 200;
+  settings.camera = Camera{Vec3(0, 0.03, 0.3), Vec3(0, 0.03, 0), 20};
+  settings.cut = parse_cut_plane("z", Aabb{Vec3(-0.03, 0, -0.03), Vec3(0.03, 0.06, 0.03)});
+  settings.cut_colour = [](const Vec3&) { return surface::palette_colour(surface::Palette::heat, 1); };
+  const TextRenderer text;
+  // A metal block filling the right half of the ball from 5 mm behind the cut plane backwards.
+  Prop block;
+  block.mesh = collider_rest_mesh(BoxCollider{{Vec3(0, -0.01, -0.1), Vec3(0.1, 0.1, -0.005)}}, Vec3::Zero(), 1);
+  block.look = ColliderLook::metal;
+  const auto red_pixels = [&](const Image& img) {
+    int n = 0;
+    for (int y = 0; y < settings.height; ++y)
+      for (int x = 0; x < settings.width; ++x) n += img.at(x, y)[0] > img.at(x, y)[2] + 60;
+    return n;
+  };
+  const int alone = red_pixels(render_mesh(mesh, settings, text));
+  const int with_block = red_pixels(render_mesh(mesh, settings, text, nullptr, "", {block}));
+  ASSERT_GT(alone, 2000);
+  EXPECT_NEAR(with_block, alone, 0.02 * alone) << with_block << " cut-face pixels with the block, " << alone
+                                               << " without";
+}
+
 TEST(Plot, NiceTicksAndALineWhereTheDataAre) {
   const auto t = nice_ticks(0.0, 27.3);
   ASSERT_GE(t.size(), 4u);

@@ -15,7 +15,7 @@ What it builds from RUN_DIR (after `bakesim mesh RUN_DIR`):
     quantity, browning by default) through the UV map the PLY carries;
   * the colliders of meshes/colliders/: NAME.ply as a still object, NAME-NNNNN.ply
     as an object swapped per frame like the bodies, each with a material for the
-    look scene.json gives it (metal, ceramic, glass, wood);
+    look scene.json gives it (metal, ceramic, glass, wood, stone);
   * the scene's frame rate (scene.json time.fps) and frame range.
 The frame-change handler is saved with the .blend file only while this add-on is
 enabled; bake the sequence (Object > Apply) before sending the file elsewhere.
@@ -105,6 +105,7 @@ def _look_material(look):
         "ceramic": ((0.80, 0.78, 0.72), 0.0, 0.15, 0.0),
         "glass": ((0.95, 0.98, 0.98), 0.0, 0.02, 1.0),
         "wood": ((0.42, 0.25, 0.12), 0.0, 0.6, 0.0),
+        "stone": ((0.16, 0.15, 0.14), 0.0, 0.8, 0.0),
     }.get(look, ((0.5, 0.5, 0.5), 0.0, 0.5, 0.0))
     bsdf.inputs["Base Color"].default_value = colour + (1.0,)
     bsdf.inputs["Metallic"].default_value = metallic
