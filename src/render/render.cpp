@@ -38,6 +38,9 @@ struct RayScene {
   RTCDevice device = nullptr;
   RTCScene scene = nullptr, opaque = nullptr;
   unsigned ground = RTC_INVALID_GEOMETRY_ID, object = RTC_INVALID_GEOMETRY_ID;
+  // A geometry's ID in `opaque` differs from its ID in `scene` once glass is
+  // left out: this maps the first to the second.
+  std::vector<unsigned> scene_id_of_opaque;
   explicit RayScene(bool with_glass = false) {
     device = rtcNewDevice("threads=1");  // rays are cast from our own parallel loop
     if (!device) throw Error("render: Embree could not create a device");
@@ -53,10 +56,20 @@ struct RayScene {
   RayScene& operator=(const RayScene&) = delete;
 
   RTCScene shadow_scene() const { return opaque ? opaque : scene; }
+  // The ground's ID in the shadow scene (a cut view never cuts it away).
+  unsigned shadow_ground() const {
+    if (!opaque) return ground;
+    const auto it = std::find(scene_id_of_opaque.begin(), scene_id_of_opaque.end(), ground);
+    return it == scene_id_of_opaque.end() ? RTC_INVALID_GEOMETRY_ID : unsigned(it - scene_id_of_opaque.begin());
+  }
   unsigned attach(RTCGeometry g, bool casts_shadow) {
     rtcCommitGeometry(g);
     const unsigned id = rtcAttachGeometry(scene, g);
-    if (opaque && casts_shadow) rtcAttachGeometry(opaque, g);
+    if (opaque && casts_shadow) {
+      const unsigned opaque_id = rtcAttachGeometry(opaque, g);
+      if (scene_id_of_opaque.size() <= opaque_id) scene_id_of_opaque.resize(opaque_id + 1, RTC_INVALID_GEOMETRY_ID);
+      scene_id_of_opaque[opaque_id] = id;
+    }
     rtcReleaseGeometry(g);
     return id;
   }
@@ -249,6 +262,7 @@ Image trace(RayScene& rs, const Aabb& bodies, const RenderSettings& s, const Sur
   rtcCommitScene(rs.scene);
   if (rs.opaque) rtcCommitScene(rs.opaque);
   const RTCScene shadows = rs.shadow_scene();
+  const unsigned shadow_ground = rs.shadow_ground();
   const Real aspect = Real(s.width) / Real(s.height);
   const Camera cam = s.camera ? *s.camera : frame_camera(frame, aspect);
   const Vec3f eye = cam.position.cast<float>();
@@ -345,6 +359,16 @@ Image trace(RayScene& rs, const Aabb& bodies, const RenderSettings& s, const Sur
                 sum += throughput.cwiseProduct(background(dir));
                 break;
               }
+              // Glass lying on an opaque face (a glass lid on a metal pan's rim, faces
+              // coinciding): the opaque face shows, rather than whichever the ray met first.
+              if (rs.opaque && rh.hit.geomID < prop_of_geometry.size() && prop_of_geometry[rh.hit.geomID] >= 0 &&
+                  placed[std::size_t(prop_of_geometry[rh.hit.geomID])].prop->look == ColliderLook::glass) {
+                RTCRayHit under;
+                if (intersect_kept(rs.opaque, origin, dir, rh.ray.tfar + 8 * eps, cut, shadow_ground, under)) {
+                  under.hit.geomID = rs.scene_id_of_opaque[under.hit.geomID];
+                  rh = under;
+                }
+              }
               Vec3f p = origin + rh.ray.tfar * dir;
               bool ground = rh.hit.geomID == rs.ground;
               const int prop_index = rh.hit.geomID < prop_of_geometry.size() ? prop_of_geometry[rh.hit.geomID] : -1;
@@ -392,7 +416,7 @@ Image trace(RayScene& rs, const Aabb& bodies, const RenderSettings& s, const Sur
                 const float a = 6.2831853f * rng.uniform(),
                             r = 0.06f * std::sqrt(rng.uniform());  // soft: a light of ~7°
                 const Vec3f l = (key + r * (std::cos(a) * t + std::sin(a) * b)).normalized();
-                if (!blocked(shadows, o, l, std::numeric_limits<float>::infinity(), cut, rs.ground)) visible += 1;
+                if (!blocked(shadows, o, l, std::numeric_limits<float>::infinity(), cut, shadow_ground)) visible += 1;
               }
               visible /= float(std::max(1, s.shadow_samples));
               Vec3f nt, nb;
@@ -401,7 +425,7 @@ Image trace(RayScene& rs, const Aabb& bodies, const RenderSettings& s, const Sur
               for (int j = 0; j < s.occlusion_samples; ++j) {
                 const float a = 6.2831853f * rng.uniform(), r2 = rng.uniform(), r = std::sqrt(r2);
                 const Vec3f d = (r * std::cos(a) * nt + r * std::sin(a) * nb + std::sqrt(1 - r2) * n).normalized();
-                if (!blocked(shadows, o, d, ao_reach, cut, rs.ground)) open += 1;
+                if (!blocked(shadows, o, d, ao_reach, cut, shadow_ground)) open += 1;
               }
               open = s.occlusion_samples > 0 ? open / float(s.occlusion_samples) : 1.0f;
               Vec3f light = key_colour * (std::max(0.0f, n.dot(key)) * visible) +

@@ -173,6 +173,34 @@ TEST(Render, ABodyUnderGlassStaysVisible) {
   EXPECT_NE(bare.rgb, covered.rgb);
 }
 
+// Glass lying on an opaque face (the pancake scene's glass lid on the metal
+// pan's rim: the two walls coincide) does not let the view through the
+// opaque one: a blue ball behind a metal wall with a glass copy of the wall
+// stays hidden.
+TEST(Render, GlassCoincidingWithAnOpaqueFaceDoesNotSeeThroughIt) {
+  surface::SurfaceMesh mesh = grey_ball();
+  mesh.colours.assign(mesh.vertices.size(), {40, 70, 200});
+  RenderSettings settings;
+  settings.width = 160, settings.height = 120;
+  settings.camera = Camera{Vec3(0, 0.05, 0.3), Vec3(0, 0.03, 0), 35};
+  const TextRenderer text;
+  Prop wall, glass;
+  wall.mesh = collider_rest_mesh(BoxCollider{{Vec3(-0.1, 0, 0.04), Vec3(0.1, 0.1, 0.05)}}, Vec3::Zero(), 1);
+  wall.look = ColliderLook::metal;
+  glass.mesh = wall.mesh;
+  glass.look = ColliderLook::glass;
+  const auto blue_pixels = [&](const Image& img) {
+    int n = 0;
+    for (int y = 0; y < settings.height; ++y)
+      for (int x = 0; x < settings.width; ++x) n += img.at(x, y)[2] > img.at(x, y)[0] + 60;
+    return n;
+  };
+  ASSERT_GT(blue_pixels(render_mesh(mesh, settings, text)), 500);  // the ball alone
+  EXPECT_EQ(blue_pixels(render_mesh(mesh, settings, text, nullptr, "", {wall})), 0);
+  EXPECT_EQ(blue_pixels(render_mesh(mesh, settings, text, nullptr, "", {wall, glass})), 0);
+  EXPECT_EQ(blue_pixels(render_mesh(mesh, settings, text, nullptr, "", {glass, wall})), 0);
+}
+
 // Issue 23: the domain drawn as an open tank (render.domain_walls) shows its far
 // walls behind the body and never a wall in front of it.
 TEST(Render, TheDomainTankShowsItsFarWallsAndNeverHidesTheBody) {
