@@ -119,7 +119,8 @@ mpm::HeatMethod heat_method(const std::string& heat, const mpm::Setup& setup) {
   bool thermal = false;
   const auto& air = setup.oven.air_temperature.points();
   for (const auto& b : setup.bodies)
-    for (const auto& [t, v] : air) thermal |= setup.oven.heat_transfer_coefficient > 0 && v != b.temperature;
+    for (const auto& [t, v] : air)
+      thermal |= (setup.oven.heat_transfer_coefficient > 0 || setup.oven.emissivity > 0) && v != b.temperature;
   for (const auto& b : setup.bodies) thermal |= b.temperature != setup.bodies.front().temperature;
   for (const auto& g : setup.colliders) thermal |= g.temperature.has_value();
   for (const auto& m : setup.materials) thermal |= m.water.active() || m.gas.active() || m.setting.has_value();

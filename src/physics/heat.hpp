@@ -32,6 +32,18 @@ inline Real pair_conduction(Real volume_j, Real conductivity_i, Real conductivit
          (r * r + eta2);
 }
 
+// Thermal radiation between a surface and the oven's walls around it (a small
+// grey body in a large enclosure, Stefan–Boltzmann): q = ε σ (T_w⁴ − T⁴), in
+// Newton's form q = h_r (T_w − T) with the radiative coefficient
+//   h_r = ε σ (T_w² + T²)(T_w + T)   (kelvin; exact, not a linearisation),
+// evaluated at the surface's temperature at the start of a step (W/(m² K)).
+// Temperatures in °C; ε of the food's surface.
+inline Real radiative_coefficient(Real emissivity, Real surface_celsius, Real wall_celsius) {
+  if (!(emissivity > 0)) return 0.0;
+  const Real t = surface_celsius + kZeroCelsius, w = wall_celsius + kZeroCelsius;
+  return emissivity * kStefanBoltzmann * (w * w + t * t) * (w + t);
+}
+
 // Surface heat exchange, the one law both solvers use for the oven air and
 // for hot colliders (Newton's law of cooling; thesis Eq 3.42–3.43, spec 4.3's
 // boundary term): a surface element exchanges q = Σ_c β_c A_c (θ_c − θ) with

@@ -14,6 +14,7 @@
 #include "core/types.hpp"
 #include "physics/browning.hpp"
 #include "physics/curves.hpp"
+#include "physics/heat.hpp"
 #include "physics/water.hpp"
 
 namespace bakesim {
@@ -21,6 +22,10 @@ namespace bakesim {
 struct Oven {
   PiecewiseLinear air_temperature = PiecewiseLinear::constant(20.0);  // °C over bake time (s)
   Real heat_transfer_coefficient = 10.0;                              // β of the air, W/(m² K)
+  // ε of the food's surface facing the oven's walls, which are at the air's
+  // temperature (0: no radiation). Radiation adds to the air's coefficient
+  // (physics/heat.hpp, radiative_coefficient); it moves no water.
+  Real emissivity = 0;
   Real bake_time_scale = 1.0;                                         // bake seconds per simulated second
   BrowningKinetics browning;                                          // crust colour from the temperature history
   Real air_vapour_density = 0;                                        // ρ_v of the oven air, kg/m³
@@ -31,6 +36,11 @@ struct Oven {
   Real bake_step(Real dt) const { return dt * bake_time_scale; }
   // Air temperature (°C) at simulated time t.
   Real air_at(Real time) const { return air_temperature(bake_time(time)); }
+  // The coefficient between the surface at `surface` °C and the oven at `air` °C:
+  // convection and, with an emissivity, radiation from the walls (W/(m² K)).
+  Real surface_coefficient(Real surface, Real air) const {
+    return heat_transfer_coefficient + radiative_coefficient(emissivity, surface, air);
+  }
   // h_m (m/s) of vapour leaving a moist surface at simulated time t (physics/water.hpp).
   Real mass_transfer_at(Real time) const {
     return mass_transfer_coefficient ? *mass_transfer_coefficient

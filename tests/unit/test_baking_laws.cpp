@@ -1,15 +1,18 @@
 // Baking laws against closed-form solutions: the Maxwell stress (thesis
-// Eq 3.20–3.27), convective exchange (Eq 3.42) and the bubble gas law (Eq 3.48–3.51).
+// Eq 3.20–3.27), convective exchange (Eq 3.42), oven wall radiation and the
+// bubble gas law (Eq 3.48–3.51).
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <utility>
 
 #include "physics/bubbles.hpp"
 #include "physics/heat.hpp"
 #include "physics/maxwell.hpp"
 #include "physics/leavening.hpp"
 #include "physics/moisture.hpp"
+#include "physics/oven.hpp"
 #include "physics/porosity.hpp"
 #include "physics/setting.hpp"
 
@@ -95,6 +98,22 @@ TEST(HeatExchange, MatchesTheLumpedExponential) {
   // A huge step lands on T_ext, never beyond.
   EXPECT_NEAR(exchange_temperature(t0, outside, hA, mc, 1e9), outside, 1e-12);
   EXPECT_DOUBLE_EQ(exchange_temperature(t0, outside, 0.0, mc, 10), t0);
+}
+
+TEST(HeatExchange, RadiationIsStefanBoltzmannInNewtonsForm) {
+  // h_r (T_w − T) = ε σ (T_w⁴ − T⁴) in kelvin, both ways round; none without emissivity.
+  for (const auto& [surface, wall] : {std::pair<Real, Real>{20, 200}, {150, 180}, {230, 180}}) {
+    const Real t = surface + 273.15, w = wall + 273.15;
+    EXPECT_NEAR(radiative_coefficient(0.9, surface, wall) * (wall - surface),
+                0.9 * 5.670374419e-8 * (w * w * w * w - t * t * t * t), 1e-9);
+  }
+  // About 15.7 W/(m² K) between a 100 °C crust (ε 0.9) and 200 °C walls: as much as the convection.
+  EXPECT_NEAR(radiative_coefficient(0.9, 100, 200), 15.7, 0.1);
+  EXPECT_DOUBLE_EQ(radiative_coefficient(0.0, 20, 200), 0.0);
+  Oven oven;
+  oven.heat_transfer_coefficient = 12;
+  oven.emissivity = 0.9;
+  EXPECT_DOUBLE_EQ(oven.surface_coefficient(100, 200), 12 + radiative_coefficient(0.9, 100, 200));
 }
 
 TEST(Bubbles, GasLawUsesKelvin) {

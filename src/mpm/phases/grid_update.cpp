@@ -40,7 +40,7 @@ void MpmSolver::phase_grid(Real dt) {
   const bool heat = thermal();
   const Oven& oven = setup_.oven;
   const Real dtb = oven.bake_step(dt), bake_t = oven.bake_time(time_ + dt);
-  const Real air_t = oven.air_temperature(bake_t), air_beta = oven.heat_transfer_coefficient;
+  const Real air_t = oven.air_temperature(bake_t);
   collider_temperatures_.read(
       setup_.colliders.size(), [&](std::size_t ci) -> const auto& { return setup_.colliders[ci].temperature; }, bake_t);
   const Real inv_rho_w = 1.0 / kWaterDensity;
@@ -112,7 +112,7 @@ void MpmSolver::phase_grid(Real dt) {
             clamp_sum -= dtb * (f.water_rate + f.vapour_rate);
           }
           SurfaceExchange exchanged = hot;
-          exchanged.add(air_area, air_beta, air_t);
+          exchanged.add(air_area, oven.surface_coefficient(theta, air_t), air_t);
           HeatState& s = heat_state_[k];
           s.dtheta = dtheta;
           s.theta = theta + dtheta;

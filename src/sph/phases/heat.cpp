@@ -84,7 +84,6 @@ void SphSolver::phase_heat(Real dt) {
   }
   // External exchange (Eq 3.42 with the sign and heat capacity restored).
   const Real air = oven.air_temperature(bake_time());
-  const Real h_air = oven.heat_transfer_coefficient;
   const Real touch = setup_.settings.spacing;  // contact: within one spacing of the collider surface
   // Collider temperatures at this bake time, read once (walls, then meshes).
   wall_temperatures_.read(
@@ -97,7 +96,7 @@ void SphSolver::phase_heat(Real dt) {
         dtemp_[i] = 0.0;
         air_facing_[i] = 0;
         if (!surface_[i] || area_[i] <= 0 || setup_.bodies[body_[i]].hold_temperature) return;
-        Real outside = air, coefficient = h_air;
+        Real outside = air, coefficient = oven.surface_coefficient(temperature_[i], air);
         bool found = false;  // touching a heated collider (then no vapour leaves here)
         if (heated_colliders_) {
           for (std::size_t ci = 0; ci < walls_.size(); ++ci) {
