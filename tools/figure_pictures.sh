@@ -71,6 +71,7 @@ picture fig-4.11-angel-food-cake angel-food-cake --preview -- --cut z
 # The thermomechanical MPM paper (seed 003)
 picture paper-fig-6-dough-pull-twist dough-pull-twist --preview -- "${STRIP[@]}"
 picture paper-fig-13-pancake pancake --preview -- "${STRIP[@]}"
+picture paper-fig-13-pancake-cut pancake --preview -- --cut z
 picture paper-fig-16-smore smore --preview -- "${STRIP[@]}"
 picture paper-fig-18-bread-tear bread-tear --preview -- "${STRIP[@]}"
 echo "pictures in $OUT/pictures/"
