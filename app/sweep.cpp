@@ -383,7 +383,11 @@ int command_sweep(const SweepArgs& a, const std::string& self) {
       status[i] = "done";
       continue;
     }
-    resume[i] = same && earlier.value("status", "").rfind("stopped", 0) == 0 && !list_checkpoints(run_dir).empty();
+    // A run the marker still calls "running" was left by a sweep that ended without hearing from it (killed,
+    // or its Dask helper lost); no sweep runs here now (the lock), so it goes on from its newest checkpoint
+    // like a stopped one (a run process still alive holds its directory's lock and the resume says so).
+    const std::string was = earlier.value("status", "");
+    resume[i] = same && (was.rfind("stopped", 0) == 0 || was == "running") && !list_checkpoints(run_dir).empty();
     queue.push_back(i);
   }
   const int hw = static_cast<int>(tbb::info::default_concurrency());
