@@ -11,7 +11,7 @@ NAME="$(basename "$SCENE" .json)"
 B=./build/app/bakesim
 OUT="out/$NAME"
 $B run "$SCENE" --preview --out "$OUT-preview"  # 8x fewer particles, 10 frames, pictures in render/
-echo "A first look: $(ls "$OUT-preview"/render/mesh-browning-*.png | tail -1)"
+echo "A first look: $(ls "$OUT-preview"/render/mesh-*.png | tail -1)"
 $B run "$SCENE" --out "$OUT" --pictures         # the full bake; pictures in $OUT/render/ as it goes
 $B mesh "$OUT"                                  # surface meshes of every frame: meshes/NNNNN.ply, .obj
 $B render "$OUT" --all --width 640 --height 360 --strip --movie  # small pictures of every frame, a strip, an MP4 if ffmpeg is there
