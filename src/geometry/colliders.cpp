@@ -266,9 +266,8 @@ ColliderLook default_look(const ColliderGeometry& geometry) {
 
 ColliderLook parse_collider_look(const std::string& name, const ColliderGeometry& geometry, const std::string& where) {
   if (name == "auto") return default_look(geometry);
-  for (ColliderLook look :
-       {ColliderLook::metal, ColliderLook::ceramic, ColliderLook::glass, ColliderLook::wood, ColliderLook::stone,
-        ColliderLook::hidden})
+  for (ColliderLook look : {ColliderLook::metal, ColliderLook::ceramic, ColliderLook::glass, ColliderLook::wood,
+                            ColliderLook::stone, ColliderLook::hidden})
     if (to_string(look) == name) return look;
   throw InputError(where, "unknown look '" + name + "' (auto, metal, ceramic, glass, wood, stone, hidden)");
 }

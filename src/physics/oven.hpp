@@ -26,10 +26,10 @@ struct Oven {
   // temperature (0: no radiation). Radiation adds to the air's coefficient
   // (physics/heat.hpp, radiative_coefficient); it moves no water.
   Real emissivity = 0;
-  Real bake_time_scale = 1.0;                                         // bake seconds per simulated second
-  BrowningKinetics browning;                                          // crust colour from the temperature history
-  Real air_vapour_density = 0;                                        // ρ_v of the oven air, kg/m³
-  std::optional<Real> mass_transfer_coefficient;                      // h_m, m/s (none: Chilton–Colburn from h)
+  Real bake_time_scale = 1.0;                     // bake seconds per simulated second
+  BrowningKinetics browning;                      // crust colour from the temperature history
+  Real air_vapour_density = 0;                    // ρ_v of the oven air, kg/m³
+  std::optional<Real> mass_transfer_coefficient;  // h_m, m/s (none: Chilton–Colburn from h)
 
   // Bake time at simulated time t, and the bake-time length of a mechanics step.
   Real bake_time(Real time) const { return time * bake_time_scale; }

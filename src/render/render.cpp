@@ -310,8 +310,8 @@ Image trace(RayScene& rs, const Aabb& bodies, const RenderSettings& s, const Sur
       h.hit.geomID = RTC_INVALID_GEOMETRY_ID;
       rtcIntersect1(rs.scene, &ctx, &h);
       if (h.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
-      const bool other = h.hit.geomID == rs.ground ||
-                         (h.hit.geomID < prop_of_geometry.size() && prop_of_geometry[h.hit.geomID] >= 0);
+      const bool other =
+          h.hit.geomID == rs.ground || (h.hit.geomID < prop_of_geometry.size() && prop_of_geometry[h.hit.geomID] >= 0);
       if (!other) {
         Vec3f albedo, n;
         surface_at(h.hit, albedo, n);
@@ -324,8 +324,7 @@ Image trace(RayScene& rs, const Aabb& bodies, const RenderSettings& s, const Sur
   // A prop or the ground seen through the cut where the ray crossed the plane
   // inside a body first: the body's cut face shows there (the plane is nearer
   // than anything kept); p, n and albedo move onto it.
-  const auto body_cut_face = [&](const Vec3f& origin, const Vec3f& dir, float far, Vec3f& p, Vec3f& n,
-                                 Vec3f& albedo) {
+  const auto body_cut_face = [&](const Vec3f& origin, const Vec3f& dir, float far, Vec3f& p, Vec3f& n, Vec3f& albedo) {
     if (!cut || !s.cut_colour) return false;
     const Vec3f plane = cut->normal.cast<float>();
     const float along = plane.dot(dir);

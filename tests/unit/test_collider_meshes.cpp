@@ -153,13 +153,12 @@ TEST(ColliderMeshes, TheDomainTankHasTheFloorAndTheWallsWhoseInsideTheViewerSees
     EXPECT_LE((hi - lo).minCoeff(), 1e-15) << "slab " << k << " reaches inside";
   }
   const auto has = [&](const Vec3& lo, const Vec3& hi) {
-    return std::any_of(slabs.begin(), slabs.end(), [&](const Aabb& b) {
-      return (b.min - lo).norm() < 1e-12 && (b.max - hi).norm() < 1e-12;
-    });
+    return std::any_of(slabs.begin(), slabs.end(),
+                       [&](const Aabb& b) { return (b.min - lo).norm() < 1e-12 && (b.max - hi).norm() < 1e-12; });
   };
-  EXPECT_TRUE(has(Vec3(-t, -t, -t), Vec3(0, 0.5 + t, 0.2 + t)));     // the wall at x = 0 (far from the viewer)
-  EXPECT_TRUE(has(Vec3(-t, -t, -t), Vec3(1 + t, 0, 0.2 + t)));       // the floor
-  EXPECT_TRUE(has(Vec3(-t, -t, -t), Vec3(1 + t, 0.5 + t, 0)));       // the wall at z = 0
+  EXPECT_TRUE(has(Vec3(-t, -t, -t), Vec3(0, 0.5 + t, 0.2 + t)));  // the wall at x = 0 (far from the viewer)
+  EXPECT_TRUE(has(Vec3(-t, -t, -t), Vec3(1 + t, 0, 0.2 + t)));    // the floor
+  EXPECT_TRUE(has(Vec3(-t, -t, -t), Vec3(1 + t, 0.5 + t, 0)));    // the wall at z = 0
   EXPECT_EQ(tank.signed_volume() > 0, true);
   // Periodic along x: no wall across it.
   EXPECT_EQ(domain_tank_mesh(domain, {true, false, false}, Vec3(2, 1.5, 1), t).triangles.size(), 2u * 12u);

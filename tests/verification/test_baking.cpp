@@ -162,8 +162,8 @@ TEST(BakingPhysics, OvenWallRadiationHeatsASmallSphereByStefanBoltzmann) {
   test_support::advance_to(*mpm, t_end / kMpmClock);
   const double mpm_rise = mean_temperature(*mpm) - m0;
   RecordProperty("mpm_rise_ratio", std::to_string(mpm_rise / (true_expected - kT0)));
-  EXPECT_NEAR(mpm_rise / (true_expected - kT0), 1.0, 0.04) << "rise " << mpm_rise << " K, expected "
-                                                            << true_expected - kT0;
+  EXPECT_NEAR(mpm_rise / (true_expected - kT0), 1.0, 0.04)
+      << "rise " << mpm_rise << " K, expected " << true_expected - kT0;
 }
 
 TEST(BakingPhysics, BakeClockRunsHeatFasterByItsScale) {

@@ -6,6 +6,7 @@
 #include <tbb/global_control.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "helpers.hpp"
@@ -104,14 +105,38 @@ surface::SurfaceMesh grey_ball() {
   return mesh;
 }
 
+// The same ball in one colour (sRGB).
+surface::SurfaceMesh coloured_ball(std::array<std::uint8_t, 3> rgb) {
+  surface::SurfaceMesh mesh = grey_ball();
+  mesh.colours.assign(mesh.vertices.size(), rgb);
+  return mesh;
+}
+
+// A picture of that size from that camera.
+RenderSettings view(int width, int height, const Camera& camera) {
+  RenderSettings s;
+  s.width = width, s.height = height;
+  s.camera = camera;
+  return s;
+}
+
+// Pixels clearly red (red above blue by 60) and clearly blue (the other way).
+bool reddish(const std::uint8_t* p) { return int(p[0]) > int(p[2]) + 60; }
+bool bluish(const std::uint8_t* p) { return int(p[2]) > int(p[0]) + 60; }
+template <class Test>
+int count_pixels(const Image& img, Test test) {
+  int n = 0;
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) n += test(img.at(x, y));
+  return n;
+}
+
 }  // namespace
 
 // Issue 23: the tray under the loaf is drawn in its material.
 TEST(Render, ATrayIsDrawnUnderTheBodyInItsMaterial) {
   const surface::SurfaceMesh mesh = grey_ball();
-  RenderSettings settings;
-  settings.width = 240, settings.height = 180;
-  settings.camera = Camera{Vec3(0, 0.12, 0.25), Vec3(0, 0.02, 0), 35};
+  RenderSettings settings = view(240, 180, Camera{Vec3(0, 0.12, 0.25), Vec3(0, 0.02, 0), 35});
   const TextRenderer text;
   Prop tray;
   tray.mesh = collider_rest_mesh(BoxCollider{{Vec3(-0.08, -0.008, -0.08), Vec3(0.08, 0, 0.08)}}, Vec3::Zero(), 1);
@@ -145,11 +170,8 @@ TEST(Render, ATrayIsDrawnUnderTheBodyInItsMaterial) {
 
 // A glass cover over the body still shows the body through it, a little dimmer.
 TEST(Render, ABodyUnderGlassStaysVisible) {
-  surface::SurfaceMesh mesh = grey_ball();
-  mesh.colours.assign(mesh.vertices.size(), {200, 60, 40});  // a red ball
-  RenderSettings settings;
-  settings.width = 160, settings.height = 120;
-  settings.camera = Camera{Vec3(0, 0.1, 0.25), Vec3(0, 0.03, 0), 35};
+  const surface::SurfaceMesh mesh = coloured_ball({200, 60, 40});  // a red ball
+  RenderSettings settings = view(160, 120, Camera{Vec3(0, 0.1, 0.25), Vec3(0, 0.03, 0), 35});
   const TextRenderer text;
   Prop cover;
   cover.mesh = collider_rest_mesh(CupCollider{Vec3(0, 0.08, 0), Vec3(0, -1, 0), 0.05, 0.08, 0.002}, Vec3::Zero(), 1);
@@ -178,23 +200,15 @@ TEST(Render, ABodyUnderGlassStaysVisible) {
 // opaque one: a blue ball behind a metal wall with a glass copy of the wall
 // stays hidden.
 TEST(Render, GlassCoincidingWithAnOpaqueFaceDoesNotSeeThroughIt) {
-  surface::SurfaceMesh mesh = grey_ball();
-  mesh.colours.assign(mesh.vertices.size(), {40, 70, 200});
-  RenderSettings settings;
-  settings.width = 160, settings.height = 120;
-  settings.camera = Camera{Vec3(0, 0.05, 0.3), Vec3(0, 0.03, 0), 35};
+  const surface::SurfaceMesh mesh = coloured_ball({40, 70, 200});  // a blue ball
+  RenderSettings settings = view(160, 120, Camera{Vec3(0, 0.05, 0.3), Vec3(0, 0.03, 0), 35});
   const TextRenderer text;
   Prop wall, glass;
   wall.mesh = collider_rest_mesh(BoxCollider{{Vec3(-0.1, 0, 0.04), Vec3(0.1, 0.1, 0.05)}}, Vec3::Zero(), 1);
   wall.look = ColliderLook::metal;
   glass.mesh = wall.mesh;
   glass.look = ColliderLook::glass;
-  const auto blue_pixels = [&](const Image& img) {
-    int n = 0;
-    for (int y = 0; y < settings.height; ++y)
-      for (int x = 0; x < settings.width; ++x) n += img.at(x, y)[2] > img.at(x, y)[0] + 60;
-    return n;
-  };
+  const auto blue_pixels = [](const Image& img) { return count_pixels(img, bluish); };
   ASSERT_GT(blue_pixels(render_mesh(mesh, settings, text)), 500);  // the ball alone
   EXPECT_EQ(blue_pixels(render_mesh(mesh, settings, text, nullptr, "", {wall})), 0);
   EXPECT_EQ(blue_pixels(render_mesh(mesh, settings, text, nullptr, "", {wall, glass})), 0);
@@ -204,11 +218,8 @@ TEST(Render, GlassCoincidingWithAnOpaqueFaceDoesNotSeeThroughIt) {
 // Issue 23: the domain drawn as an open tank (render.domain_walls) shows its far
 // walls behind the body and never a wall in front of it.
 TEST(Render, TheDomainTankShowsItsFarWallsAndNeverHidesTheBody) {
-  surface::SurfaceMesh mesh = grey_ball();
-  mesh.colours.assign(mesh.vertices.size(), {40, 70, 200});  // a blue ball
-  RenderSettings settings;
-  settings.width = 200, settings.height = 150;
-  settings.camera = Camera{Vec3(0.02, 0.12, 0.25), Vec3(0, 0.03, 0), 40};
+  const surface::SurfaceMesh mesh = coloured_ball({40, 70, 200});  // a blue ball
+  RenderSettings settings = view(200, 150, Camera{Vec3(0.02, 0.12, 0.25), Vec3(0, 0.03, 0), 40});
   const TextRenderer text;
   const Aabb domain{Vec3(-0.1, 0, -0.1), Vec3(0.1, 0.1, 0.1)};
   Prop tank;
@@ -223,7 +234,7 @@ TEST(Render, TheDomainTankShowsItsFarWallsAndNeverHidesTheBody) {
       const std::uint8_t* b = in_tank.at(x, y);
       wood_bare += woody(a);
       if (y < settings.height / 3) wood_above_ball += woody(b);  // the back wall, above the ball
-      if (int(a[2]) < int(a[0]) + 60) continue;
+      if (!bluish(a)) continue;
       ++ball;
       ball_still_blue += int(b[2]) > int(b[0]) + 40;
     }
@@ -279,9 +290,7 @@ TEST(Render, TheCutFaceOfAHalfHotSphereShowsTheColourRamp) {
 // collider's face behind the plane, inside the body, does not cover it.
 TEST(Render, TheCutFaceShowsWhereAColliderOverlapsTheBody) {
   const surface::SurfaceMesh mesh = grey_ball();  // radius 3 cm, centre (0, 0.03, 0)
-  RenderSettings settings;
-  settings.width = 200, settings.height = 200;
-  settings.camera = Camera{Vec3(0, 0.03, 0.3), Vec3(0, 0.03, 0), 20};
+  RenderSettings settings = view(200, 200, Camera{Vec3(0, 0.03, 0.3), Vec3(0, 0.03, 0), 20});
   settings.cut = parse_cut_plane("z", Aabb{Vec3(-0.03, 0, -0.03), Vec3(0.03, 0.06, 0.03)});
   settings.cut_colour = [](const Vec3&) { return surface::palette_colour(surface::Palette::heat, 1); };
   const TextRenderer text;
@@ -289,12 +298,7 @@ TEST(Render, TheCutFaceShowsWhereAColliderOverlapsTheBody) {
   Prop block;
   block.mesh = collider_rest_mesh(BoxCollider{{Vec3(0, -0.01, -0.1), Vec3(0.1, 0.1, -0.005)}}, Vec3::Zero(), 1);
   block.look = ColliderLook::metal;
-  const auto red_pixels = [&](const Image& img) {
-    int n = 0;
-    for (int y = 0; y < settings.height; ++y)
-      for (int x = 0; x < settings.width; ++x) n += img.at(x, y)[0] > img.at(x, y)[2] + 60;
-    return n;
-  };
+  const auto red_pixels = [](const Image& img) { return count_pixels(img, reddish); };
   const int alone = red_pixels(render_mesh(mesh, settings, text));
   const int with_block = red_pixels(render_mesh(mesh, settings, text, nullptr, "", {block}));
   ASSERT_GT(alone, 2000);
