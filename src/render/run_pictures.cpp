@@ -94,17 +94,10 @@ RenderRunResult render_run(const fs::path& run_dir, const RenderRunOptions& o) {
   bodies.min.array() -= geometry.spacing;
   bodies.max.array() += geometry.spacing;
   // The domain walls as an open tank (render.domain_walls), the walls chosen for the camera of each picture.
-  ColliderLook tank_look = ColliderLook::hidden;
-  if (r.contains("domain_walls")) {
-    const std::string name = r["domain_walls"].get<std::string>();
-    const auto looks = {ColliderLook::metal, ColliderLook::ceramic, ColliderLook::glass,
-                        ColliderLook::wood,  ColliderLook::stone,   ColliderLook::hidden};
-    const auto it = std::find_if(looks.begin(), looks.end(), [&](ColliderLook l) { return to_string(l) == name; });
-    if (it == looks.end())
-      throw InputError((run_dir / "scene.json").string() + ": render.domain_walls",
-                       "unknown look '" + name + "' (hidden, metal, ceramic, glass, wood, stone)");
-    tank_look = *it;
-  }
+  // (The domain walls' own default look is hidden.)
+  const ColliderLook tank_look =
+      parse_collider_look(r.value("domain_walls", std::string("hidden")), InsideBoxCollider{},
+                          (run_dir / "scene.json").string() + ": render.domain_walls");
   const auto tank_at = [&](const Vec3& viewer) {
     const Aabb domain{vec3_of(run.scene["domain"]["min"]), vec3_of(run.scene["domain"]["max"])};
     std::array<bool, 3> periodic{false, false, false};
