@@ -66,6 +66,7 @@ picture fig-3.14-melting-bunny melting-bunny --preview -- "${STRIP[@]}"
 picture fig-3.15-viscous-funnel viscous-funnel --preview -- "${STRIP[@]}"
 picture fig-3.16-viscous-funnel-thick viscous-funnel-thick --preview -- "${STRIP[@]}"
 picture fig-3.17-volcano volcano -- "${STRIP[@]}"
+picture fig-4.4cd-bread-roll-centred bread-roll-centred --preview -- --cut z
 picture fig-4.5-container-solidification container-solidification --preview -- --cut z --colour temperature
 picture fig-4.11-angel-food-cake angel-food-cake --preview -- --cut z
 # The thermomechanical MPM paper (seed 003)
