@@ -181,26 +181,6 @@ bool blocked(RTCScene scene, const Vec3f& o, const Vec3f& d, float far, const Cu
   return intersect_kept(scene, o, d, far, cut, ground, rh);
 }
 
-void draw_colour_bar(Image& img, const ColourBar& bar, const TextRenderer& text) {
-  const int x0 = img.width - 110, x1 = x0 + 22, y0 = img.height / 5, y1 = img.height * 4 / 5;
-  for (int y = y0; y <= y1; ++y) {
-    const auto c =
-        surface::palette_colour(bar.palette, bar.palette_offset + bar.palette_scale * double(y1 - y) / double(y1 - y0));
-    for (int x = x0; x <= x1; ++x) img.set(x, y, c);
-  }
-  for (int y = y0 - 1; y <= y1 + 1; ++y) img.set(x0 - 1, y, {40, 40, 40}), img.set(x1 + 1, y, {40, 40, 40});
-  for (int x = x0 - 1; x <= x1 + 1; ++x) img.set(x, y0 - 1, {40, 40, 40}), img.set(x, y1 + 1, {40, 40, 40});
-  const auto ticks = nice_ticks(bar.low, bar.high, 5);
-  const double step = ticks.size() > 1 ? ticks[1] - ticks[0] : 1;
-  const int decimals = std::max(0, int(-std::floor(std::log10(step) + 1e-9)));
-  for (double t : ticks) {
-    if (t < bar.low - 1e-9 * step || t > bar.high + 1e-9 * step) continue;
-    const int y = y1 - int(std::lround((t - bar.low) / (bar.high - bar.low) * (y1 - y0)));
-    for (int x = x1 + 1; x <= x1 + 6; ++x) img.set(x, y, {40, 40, 40});
-    text.draw(img, x1 + 9, y + 5, fmt::format("{:.{}f}", t, std::min(decimals, 6)), 14, {30, 30, 30});
-  }
-  text.draw(img, (x0 + x1) / 2, y0 - 14, bar.label, 15, {30, 30, 30}, Align::centre);
-}
 
 // A prop's triangles in single precision, its bounds, and its Embree geometry id.
 struct PlacedProp {
@@ -458,6 +438,27 @@ Image trace(RayScene& rs, const Aabb& bodies, const RenderSettings& s, const Sur
 }
 
 }  // namespace
+
+void draw_colour_bar(Image& img, const ColourBar& bar, const TextRenderer& text) {
+  const int x0 = img.width - 110, x1 = x0 + 22, y0 = img.height / 5, y1 = img.height * 4 / 5;
+  for (int y = y0; y <= y1; ++y) {
+    const auto c =
+        surface::palette_colour(bar.palette, bar.palette_offset + bar.palette_scale * double(y1 - y) / double(y1 - y0));
+    for (int x = x0; x <= x1; ++x) img.set(x, y, c);
+  }
+  for (int y = y0 - 1; y <= y1 + 1; ++y) img.set(x0 - 1, y, {40, 40, 40}), img.set(x1 + 1, y, {40, 40, 40});
+  for (int x = x0 - 1; x <= x1 + 1; ++x) img.set(x, y0 - 1, {40, 40, 40}), img.set(x, y1 + 1, {40, 40, 40});
+  const auto ticks = nice_ticks(bar.low, bar.high, 5);
+  const double step = ticks.size() > 1 ? ticks[1] - ticks[0] : 1;
+  const int decimals = std::max(0, int(-std::floor(std::log10(step) + 1e-9)));
+  for (double t : ticks) {
+    if (t < bar.low - 1e-9 * step || t > bar.high + 1e-9 * step) continue;
+    const int y = y1 - int(std::lround((t - bar.low) / (bar.high - bar.low) * (y1 - y0)));
+    for (int x = x1 + 1; x <= x1 + 6; ++x) img.set(x, y, {40, 40, 40});
+    text.draw(img, x1 + 9, y + 5, fmt::format("{:.{}f}", t, std::min(decimals, 6)), 14, {30, 30, 30});
+  }
+  text.draw(img, (x0 + x1) / 2, y0 - 14, bar.label, 15, {30, 30, 30}, Align::centre);
+}
 
 CutPlane parse_cut_plane(const std::string& text, const Aabb& bodies) {
   const auto eq = text.find('=');

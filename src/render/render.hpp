@@ -66,6 +66,10 @@ struct ParticleView {
   Real radius = 0.005;
 };
 
+// The colour bar with its ticks and label, drawn 110 pixels in from the
+// picture's right edge, over its middle three fifths.
+void draw_colour_bar(Image& img, const ColourBar& bar, const TextRenderer& text);
+
 // A collider in the picture (geometry/collider_mesh.hpp): its triangles at the
 // frame's pose and what it is made of. Metal, ceramic and wood are opaque
 // (wood with a grain along the longest side of its box); each glass face

@@ -150,14 +150,21 @@ RenderRunResult render_run(const fs::path& run_dir, const RenderRunOptions& o) {
       run.scene.contains("environment") ? run.scene["environment"].value("bake_time_scale", 1.0) : 1.0;
   // The cut's axis names the pictures (parse_cut_plane accepted AXIS or AXIS=VALUE).
   const std::string stem = o.mode + "-" + colour + (settings.cut ? "-cut-" + o.cut.substr(0, 1) : "");
-  // One frame's picture: with its colour bar and full caption, or (a strip's tile) with the bake time only.
-  const auto draw = [&](int f, bool tile) {
-    const ParticleSet ps = read_particle_frame(run.frames.at(f));
+  // The colour bar of a frame's picture (in mesh mode the dough shows palette(0.15 + 0.8 value), Eq 4.7).
+  const auto colour_bar = [&](const ParticleSet& ps) {
     const auto range = colour_range(ps, colour, colour_range_given);
     ColourBar bar;
     bar.label = colour;
     bar.low = range.first, bar.high = range.second;
     bar.palette = colour_palette(colour);
+    if (o.mode == "mesh") bar.palette_offset = 0.15, bar.palette_scale = 0.8;
+    return bar;
+  };
+  // One frame's picture: with its colour bar and full caption, or (a strip's tile) with the bake time only.
+  const auto draw = [&](int f, bool tile) {
+    const ParticleSet ps = read_particle_frame(run.frames.at(f));
+    const ColourBar bar = colour_bar(ps);
+    const std::pair<Real, Real> range{bar.low, bar.high};
     const double bake = frame_time(run, f) * bake_scale;
     const std::string when = bake >= 120  ? fmt::format("{:.1f} min", bake / 60)
                              : bake >= 10 ? fmt::format("{:.0f} s", bake)
@@ -165,8 +172,6 @@ RenderRunResult render_run(const fs::path& run_dir, const RenderRunOptions& o) {
     const std::string caption = tile ? when : fmt::format("{}   frame {}   bake {}", scene_name, f, when);
     if (o.mode == "mesh") {
       const surface::SurfaceMesh mesh = frame_mesh(ps, geometry, mesh_opts);
-      // Dough vertices show palette(0.15 + 0.8 value) (Eq 4.7); the bar shows the same.
-      bar.palette_offset = 0.15, bar.palette_scale = 0.8;
       RenderSettings frame_settings = settings;
       std::optional<surface::ColourField> field;
       if (settings.cut) {
@@ -216,8 +221,11 @@ RenderRunResult render_run(const fs::path& run_dir, const RenderRunOptions& o) {
     std::vector<Image> tiles;
     for (std::size_t k = 0; k < n; ++k)
       tiles.push_back(draw(frames[n == 1 ? 0 : k * (frames.size() - 1) / (n - 1)], true));
-    Image strip(int(n) * tiles[0].width, tiles[0].height);
+    // The tiles, then a panel with the colour bar (the last tile's range) at the right.
+    constexpr int kLegendWidth = 130;
+    Image strip(int(n) * tiles[0].width + kLegendWidth, tiles[0].height, {236, 236, 234});
     for (std::size_t k = 0; k < n; ++k) strip.paste(tiles[k], int(k) * tiles[0].width, 0);
+    draw_colour_bar(strip, colour_bar(read_particle_frame(run.frames.at(frames[frames.size() - 1]))), text);
     result.strip = out_dir / (stem + "-strip.png");
     write_file_atomic(*result.strip, encode_png(strip));
   }

@@ -3,7 +3,7 @@
 //   mesh-COLOUR-NNNNN.png       the surface (meshed now from the particle frame)
 //   particles-COLOUR-NNNNN.png  the particles as spheres with a colour bar
 //   MODE-COLOUR.mp4             with --movie, when ffmpeg is installed
-//   MODE-COLOUR-strip.png       with --strip: up to six frames side by side
+//   MODE-COLOUR-strip.png       with --strip: up to six frames side by side and the colour bar
 //   MODE-COLOUR-NNNNN-turn-KKK.png  with --turntable N: N views around each frame
 //   MODE-COLOUR-cut-AXIS-NNNNN.png  with --cut: the part beyond a plane cut away,
 //                               the mesh's cut face coloured by the same quantity

@@ -20,6 +20,8 @@ check '[ $? -eq 0 ] && grep -q "bakesim_heat.mtl" "$OUT/sph/meshes/00001.obj"' "
 check '[ $? -eq 0 ] && png "$OUT/sph/render/mesh-browning-00002.png"' "sph: render draws the last frame"
 "$BAKESIM" render "$OUT/sph" --mode particles --color temperature --all --strip --width 160 --height 90 2>/dev/null
 check '[ $? -eq 0 ] && png "$OUT/sph/render/particles-temperature-00000.png" && png "$OUT/sph/render/particles-temperature-strip.png"' "sph: particle pictures of every frame and a strip"
+png_width() { /usr/bin/python3 -c 'import struct, sys; print(struct.unpack(">I", open(sys.argv[1], "rb").read()[16:20])[0])' "$1"; }
+check '[ "$(png_width "$OUT/sph/render/particles-temperature-strip.png")" -eq $((3 * 160 + 130)) ]' "the strip is its three frames and a 130-pixel panel for the colour bar"
 # The scene's render section: its colour (and range) when --colour is not given, the domain drawn as a tank.
 "$BAKESIM" run "$ROOT/tests/data/good_small.json" --out "$OUT/tank" --quiet \
   --set render.colour=speed --set 'render.range=[0,0.5]' --set render.domain_walls=metal
