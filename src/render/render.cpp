@@ -181,7 +181,6 @@ bool blocked(RTCScene scene, const Vec3f& o, const Vec3f& d, float far, const Cu
   return intersect_kept(scene, o, d, far, cut, ground, rh);
 }
 
-
 // A prop's triangles in single precision, its bounds, and its Embree geometry id.
 struct PlacedProp {
   const Prop* prop;
