@@ -556,6 +556,18 @@ std::string describe(const Scene& scene, Solver& solver) {
   if (scene.oven.bake_time_scale != 1.0)
     out += fmt::format("bake clock {} bake seconds per simulated second: {} s simulate {:.1f} min of baking\n",
                        scene.oven.bake_time_scale, scene.end_time, scene.oven.bake_time(scene.end_time) / 60.0);
+  // The oven the surfaces exchange heat with: the air (a number or a schedule), its coefficient, wall radiation.
+  const auto& air = scene.oven.air_temperature.points();
+  Real air_lo = air.empty() ? 20.0 : air.front().second, air_hi = air_lo;
+  for (const auto& point : air) air_lo = std::min(air_lo, point.second), air_hi = std::max(air_hi, point.second);
+  const std::string air_text =
+      air_lo == air_hi ? fmt::format("{:g} degC", air_lo)
+                       : fmt::format("{:g} to {:g} degC (a schedule of {} points)", air_lo, air_hi, air.size());
+  out += fmt::format(
+      "oven       air {}, h {:g} W/(m^2 K){}\n", air_text, scene.oven.heat_transfer_coefficient,
+      scene.oven.emissivity > 0
+          ? fmt::format(", wall radiation at emissivity {:g} (walls at the air's temperature)", scene.oven.emissivity)
+          : std::string(", no wall radiation"));
   out += solver.summary();
   out += fmt::format("probes     {}\n", scene.probes.size());
   const Real dt = solver.max_stable_dt();
