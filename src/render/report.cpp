@@ -613,6 +613,10 @@ ReportResult write_report_of(const fs::path& run_dir, const ReportOptions& o) {
   row("oven air", scene_oven(scene["environment"]));
   row("heat transfer coefficient",
       fmt::format("{:g} W/(m² K)", scene["environment"]["heat_transfer_coefficient"].get<double>()));
+  // value(): runs written before the key existed have none.
+  const double emissivity = scene["environment"].value("emissivity", 0.0);
+  row("wall radiation", emissivity > 0 ? fmt::format("emissivity {:g}, walls at the air's temperature", emissivity)
+                                       : std::string("none"));
   row("bake clock",
       fmt::format("{:g} s of bake per simulated second", scene["environment"]["bake_time_scale"].get<double>()));
   row("simulated",

@@ -20,6 +20,7 @@ rows=$(($(wc -l < "$OUT/measured.csv") - 2))
 "$BAKESIM" report "$OUT/run" --compare "$OUT/measured.csv=core_temperature:cookie" >"$OUT/report.txt" 2>&1
 check '[ $? -eq 0 ] && grep -qx "$OUT/run/report.html" "$OUT/report.txt"' "report writes RUN_DIR/report.html"
 check '[ -z "$(grep -o "src=\"[^d][^\"]*\"\|href=\|url(" "$OUT/run/report.html")" ]' "the page needs no other file (pictures inline, no links)"
+check 'grep -q "wall radiation</th><td>none<" "$OUT/run/report.html"' "the scene table says whether the oven walls radiate"
 sed "s|REPORT|file://$OUT/run/report.html|" "$ROOT/tests/regression/report_check.html" > "$OUT/check.html"
 timeout 120 "$CHROMIUM" --headless --no-sandbox --disable-gpu --disable-dev-shm-usage --allow-file-access-from-files --virtual-time-budget=10000 \
   --dump-dom "file://$OUT/check.html" 2>/dev/null | sed -n '/<pre/,/<\/pre>/p' | sed 's/<[^>]*>//g' > "$OUT/seen.txt"
