@@ -12,6 +12,7 @@
 #include "io/mesh_files.hpp"
 #include "io/ply_reader.hpp"
 #include "io/run_directory.hpp"
+#include "io/schema.hpp"
 #include "io/scene_parts.hpp"
 #include "geometry/collider_mesh.hpp"
 
@@ -163,17 +164,31 @@ void write_frame_vdb(const fs::path& dir, int frame, const ParticleSet& ps, cons
       surface::encode_vdb(surface_particles(ps, run), settings.surface, quantities, kColourSupport * run.spacing));
 }
 
+json read_run_scene(const fs::path& file) {
+  json scene;
+  try {
+    scene = json::parse(read_file(file));
+  } catch (const json::exception& e) {
+    throw InputError(file.string(), std::string("not valid JSON: ") + e.what());
+  }
+  // A run written by an older bakesim lacks the keys added since: checked against today's schema, a copy
+  // gets their defaults. One the schema no longer takes is read as it was written.
+  try {
+    json filled = scene;
+    scene_schema().validate(filled, file.string());
+    return filled;
+  } catch (const InputError&) {
+    return scene;
+  }
+}
+
 RunDirectory open_run(const fs::path& dir) {
   RunDirectory r;
   r.dir = dir;
   const fs::path scene = dir / "scene.json";
   if (!fs::is_regular_file(scene))
     throw InputError(dir.string(), "not a run directory (no scene.json; make one with `bakesim run SCENE --out DIR`)");
-  try {
-    r.scene = json::parse(read_file(scene));
-  } catch (const json::exception& e) {
-    throw InputError(scene.string(), std::string("not valid JSON: ") + e.what());
-  }
+  r.scene = read_run_scene(scene);
   r.scene_dir = recorded_scene_dir(dir);
   if (fs::is_directory(dir / "frames"))
     for (const auto& entry : fs::directory_iterator(dir / "frames")) {

@@ -70,6 +70,9 @@ struct RunDirectory {
   std::string scene_dir;                        // where the scene's mesh paths resolve ("" unknown)
 };
 RunDirectory open_run(const std::filesystem::path& dir);  // InputError when it is not a run directory
+// A run's resolved scene.json, with the defaults of keys added since the run was written (checked against
+// today's schema; as written when the schema no longer takes it). InputError when it is not JSON.
+nlohmann::json read_run_scene(const std::filesystem::path& file);
 ParticleSet read_particle_frame(const std::filesystem::path& ply);
 // The scene's frames per simulated second (time.fps) and the simulated time of a frame.
 Real frame_rate(const RunDirectory& run);

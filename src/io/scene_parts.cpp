@@ -170,8 +170,7 @@ Oven build_oven(const Ctx& c, const json& env) {
   Oven oven;
   oven.air_temperature = build_schedule(c, "environment.air_temperature", env["air_temperature"]);
   oven.heat_transfer_coefficient = env["heat_transfer_coefficient"].get<double>();
-  // value(): a run's scene.json written before the key existed (bakesim render reads it) has none.
-  oven.emissivity = env.value("emissivity", 0.0);
+  oven.emissivity = env["emissivity"].get<double>();
   oven.bake_time_scale = env["bake_time_scale"].get<double>();
   oven.browning = build_browning(env["browning"]);
   oven.air_vapour_density = env["air_vapour_density"].get<double>();

@@ -348,12 +348,7 @@ ReportResult write_report_of(const fs::path& run_dir, const ReportOptions& o) {
   ReportResult result;
   auto& notes = result.notes;
   const RunResults r = read_run_results(run_dir);
-  json scene;
-  try {
-    scene = json::parse(read_file(run_dir / "scene.json"));
-  } catch (const json::exception& e) {
-    throw InputError((run_dir / "scene.json").string(), std::string("not valid JSON: ") + e.what());
-  }
+  const json scene = read_run_scene(run_dir / "scene.json");
   std::vector<Measured> measured;
   for (const auto& spec : o.compare) measured.push_back(read_measured(spec));
   const Table& t = r.stats;
@@ -613,8 +608,7 @@ ReportResult write_report_of(const fs::path& run_dir, const ReportOptions& o) {
   row("oven air", scene_oven(scene["environment"]));
   row("heat transfer coefficient",
       fmt::format("{:g} W/(m² K)", scene["environment"]["heat_transfer_coefficient"].get<double>()));
-  // value(): runs written before the key existed have none.
-  const double emissivity = scene["environment"].value("emissivity", 0.0);
+  const double emissivity = scene["environment"]["emissivity"].get<double>();
   row("wall radiation", emissivity > 0 ? fmt::format("emissivity {:g}, walls at the air's temperature", emissivity)
                                        : std::string("none"));
   row("bake clock",

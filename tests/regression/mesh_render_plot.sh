@@ -68,7 +68,8 @@ check '[ $? -eq 0 ] && ! cmp -s "$OUT/col/render/mesh-browning-00002.png" "$OUT/
 check '[ $? -eq 2 ] && grep -q "render --camera" "$OUT/cam.txt"' "a camera that is not X,Y,Z is refused (exit 2)"
 "$BAKESIM" render "$OUT/col" --cut q=1 2>"$OUT/cut.txt"
 check '[ $? -eq 2 ] && grep -q "render --cut" "$OUT/cut.txt"' "a bad --cut is refused naming the option (exit 2)"
-# A run written before environment.emissivity existed (its scene.json lacks the key) still renders.
+# A run written before environment.emissivity existed (its scene.json lacks the key) still renders:
+# opening a run fills in the defaults of keys added since.
 /usr/bin/python3 -c 'import json,sys; p=sys.argv[1]; d=json.load(open(p)); del d["environment"]["emissivity"]; json.dump(d, open(p, "w"))' "$OUT/col/scene.json"
 "$BAKESIM" render "$OUT/col" --width 160 --height 90 2>"$OUT/col-old.txt"
 check '[ $? -eq 0 ]' "a run whose scene.json predates environment.emissivity renders ($(tail -1 "$OUT/col-old.txt"))"

@@ -52,4 +52,9 @@ cp -r "$OUT/run" "$OUT/edited"
 sed -i 's/"bodies": \[/"bodies": 5, "unused": [/' "$OUT/edited/scene.json"
 "$BAKESIM" report "$OUT/edited" 2>"$OUT/edited.txt"
 check '[ $? -eq 2 ] && grep -q "edited/scene.json: does not read as the resolved scene of a run" "$OUT/edited.txt"' "a hand-edited scene.json is refused with its file named"
+# A run written before a key existed (here environment.emissivity): the report reads it with the key's default.
+cp -r "$OUT/run" "$OUT/older"
+/usr/bin/python3 -c 'import json,sys; p=sys.argv[1]; d=json.load(open(p)); del d["environment"]["emissivity"]; json.dump(d, open(p, "w"))' "$OUT/older/scene.json"
+"$BAKESIM" report "$OUT/older" >/dev/null 2>"$OUT/older.txt"
+check '[ $? -eq 0 ] && grep -q "wall radiation</th><td>none<" "$OUT/older/report.html"' "a run older than a key reports with its default"
 exit $fail
