@@ -32,6 +32,10 @@ RunGeometry run_geometry(const json& scene) {
   }
   for (const auto& [name, material] : scene.at("materials").items())
     g.rest_density.push_back(material.at("density").get<double>());
+  const json& domain = scene.at("domain");
+  g.domain = {scene_parts::vec3(domain.at("min")), scene_parts::vec3(domain.at("max"))};
+  for (const auto& axis : domain.value("periodic", json::array()))
+    g.periodic[std::size_t(axis.get<std::string>().at(0) - 'x')] = true;
   return g;
 }
 

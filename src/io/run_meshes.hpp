@@ -4,6 +4,7 @@
 //   NNNNN.ply               binary PLY: positions, normals, colours, UVs (s, t)
 //   NNNNN.obj + bakesim.mtl OBJ with vertex colours and UVs; the material maps
 //                           gradient_<palette>.png (the thesis's gradient texture)
+#include <array>
 #include <filesystem>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -23,6 +24,8 @@ struct RunGeometry {
   std::string solver;              // "sph" or "mpm"
   Real spacing = 0.01;             // initial particle spacing, m
   std::vector<Real> rest_density;  // SPH: by material id (materials in name order)
+  Aabb domain;                     // the domain box, its walls on its faces
+  std::array<bool, 3> periodic{};  // axes without walls (domain.periodic)
 };
 RunGeometry run_geometry(const nlohmann::json& resolved_scene);
 

@@ -153,10 +153,10 @@ bool occluded(RTCScene scene, const Vec3f& o, const Vec3f& d, float far) {
   return ray.tfar < 0;
 }
 
-// The first hit along o + t d (t < far) that a cut view keeps (the ground is
-// never cut away); false when there is none.
-bool intersect_kept(RTCScene scene, const Vec3f& o, const Vec3f& d, float far, const CutPlane* cut, unsigned ground,
-                    RTCRayHit& rh) {
+// The first hit along o + t d (t < far) that `keep(hit, point)` accepts, passing
+// through the others; false when there is none.
+template <class Keep>
+bool first_hit(RTCScene scene, const Vec3f& o, const Vec3f& d, float far, Keep&& keep, RTCRayHit& rh) {
   float from = 0;
   for (int skipped = 0; skipped < 256; ++skipped) {
     RTCIntersectContext ctx;
@@ -168,10 +168,22 @@ bool intersect_kept(RTCScene scene, const Vec3f& o, const Vec3f& d, float far, c
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(scene, &ctx, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
-    if (!cut || rh.hit.geomID == ground || !cut->removes((o + rh.ray.tfar * d).cast<Real>())) return true;
+    if (keep(rh.hit, o + rh.ray.tfar * d)) return true;
     from = std::nextafter(rh.ray.tfar, std::numeric_limits<float>::infinity()) * (1 + 1e-6f);
   }
   return false;
+}
+
+// The first hit along o + t d (t < far) that a cut view keeps (the ground is
+// never cut away); false when there is none.
+bool intersect_kept(RTCScene scene, const Vec3f& o, const Vec3f& d, float far, const CutPlane* cut, unsigned ground,
+                    RTCRayHit& rh) {
+  return first_hit(
+      scene, o, d, far,
+      [&](const RTCHit& hit, const Vec3f& point) {
+        return !cut || hit.geomID == ground || !cut->removes(point.cast<Real>());
+      },
+      rh);
 }
 
 // Is anything kept between o and o + far d?
@@ -278,27 +290,14 @@ Image trace(RayScene& rs, const Aabb& bodies, const RenderSettings& s, const Sur
   // d from q is one of its back faces; props and the ground, which may overlap
   // a body (a cake pressed against its pan), are passed through.
   const auto inside_body = [&](const Vec3f& q, const Vec3f& d) {
-    float from = 0;
-    for (int passed = 0; passed < 64; ++passed) {
-      RTCIntersectContext ctx;
-      rtcInitIntersectContext(&ctx);
-      RTCRayHit h{};
-      h.ray.org_x = q.x(), h.ray.org_y = q.y(), h.ray.org_z = q.z();
-      h.ray.dir_x = d.x(), h.ray.dir_y = d.y(), h.ray.dir_z = d.z();
-      h.ray.tnear = from, h.ray.tfar = std::numeric_limits<float>::infinity(), h.ray.mask = 0xffffffffu;
-      h.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-      rtcIntersect1(rs.scene, &ctx, &h);
-      if (h.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
-      const bool other =
-          h.hit.geomID == rs.ground || (h.hit.geomID < prop_of_geometry.size() && prop_of_geometry[h.hit.geomID] >= 0);
-      if (!other) {
-        Vec3f albedo, n;
-        surface_at(h.hit, albedo, n);
-        return n.dot(d) > 0;
-      }
-      from = std::nextafter(h.ray.tfar, std::numeric_limits<float>::infinity()) * (1 + 1e-6f);
-    }
-    return false;
+    const auto is_body = [&](const RTCHit& hit, const Vec3f&) {
+      return hit.geomID != rs.ground && !(hit.geomID < prop_of_geometry.size() && prop_of_geometry[hit.geomID] >= 0);
+    };
+    RTCRayHit h;
+    if (!first_hit(rs.scene, q, d, std::numeric_limits<float>::infinity(), is_body, h)) return false;
+    Vec3f albedo, n;
+    surface_at(h.hit, albedo, n);
+    return n.dot(d) > 0;
   };
   // A prop or the ground seen through the cut where the ray crossed the plane
   // inside a body first: the body's cut face shows there (the plane is nearer

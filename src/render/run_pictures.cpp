@@ -34,8 +34,6 @@ bool has_program(const std::string& name) {
   return false;
 }
 
-Vec3 vec3_of(const nlohmann::json& a) { return Vec3(a[0].get<double>(), a[1].get<double>(), a[2].get<double>()); }
-
 std::string shell_quote(const std::string& s) {
   std::string q = "'";
   for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
@@ -99,11 +97,7 @@ RenderRunResult render_run(const fs::path& run_dir, const RenderRunOptions& o) {
       parse_collider_look(r.value("domain_walls", std::string("hidden")), InsideBoxCollider{},
                           (run_dir / "scene.json").string() + ": render.domain_walls");
   const auto tank_at = [&](const Vec3& viewer) {
-    const Aabb domain{vec3_of(run.scene["domain"]["min"]), vec3_of(run.scene["domain"]["max"])};
-    std::array<bool, 3> periodic{false, false, false};
-    for (const auto& axis : run.scene["domain"].value("periodic", nlohmann::json::array()))
-      periodic[std::size_t(axis.get<std::string>()[0] - 'x')] = true;
-    return Prop{domain_tank_mesh(domain, periodic, viewer, 2 * geometry.spacing), tank_look, true};
+    return Prop{domain_tank_mesh(geometry.domain, geometry.periodic, viewer, 2 * geometry.spacing), tank_look, true};
   };
   const auto props_at = [&](int f) {
     std::vector<Prop> props;

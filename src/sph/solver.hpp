@@ -22,6 +22,7 @@
 //   smoothing per-particle h for the next step (optional)  (Eq 3.54–3.56)
 // With adaptive smoothing every pair uses h_ij = (h_i + h_j)/2 (Eq 3.56).
 #include <array>
+#include <cassert>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -56,7 +57,10 @@ class SphSolver final : public Solver {
   struct StepBounds {
     std::array<StepBound, 8> list{};
     std::size_t count = 0;
-    void add(const char* name, Real dt) { list[count++] = {name, dt}; }
+    void add(const char* name, Real dt) {
+      assert(count < list.size() && "time_step_bounds adds at most seven");
+      list[count++] = {name, dt};
+    }
     const StepBound* begin() const { return list.data(); }
     const StepBound* end() const { return list.data() + count; }
   };

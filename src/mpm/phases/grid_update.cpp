@@ -157,8 +157,8 @@ MpmSolver::WorldPlane MpmSolver::world_plane(std::size_t collider, const RigidPo
 
 void MpmSolver::mirror_sticky_planes() {
   if (sticky_planes_.empty()) return;
-  for (std::size_t k = 0; k < sticky_planes_.size(); ++k)
-    sticky_world_[k] = world_plane(sticky_planes_[k], collider_poses_[sticky_planes_[k]]);
+  for (std::size_t s = 0; s < sticky_planes_.size(); ++s)
+    sticky_world_[s] = world_plane(sticky_planes_[s], collider_poses_[sticky_planes_[s]]);
   const std::size_t nz = nz_, syz = std::size_t(ny_) * nz_;
   const Real on_face = kNodeOnFace * dx_;
   auto node_position = [&](std::size_t k) {
@@ -185,9 +185,9 @@ void MpmSolver::mirror_sticky_planes() {
         GridNode& node = grid_[k];
         if (node.mass <= 0) return;
         const Vec3 xi = node_position(k);
-        for (std::size_t k = 0; k < sticky_planes_.size(); ++k) {
-          const RigidPose& pose = collider_poses_[sticky_planes_[k]];
-          const WorldPlane& plane = sticky_world_[k];
+        for (std::size_t s = 0; s < sticky_planes_.size(); ++s) {  // s: a sticky plane (k is the node)
+          const RigidPose& pose = collider_poses_[sticky_planes_[s]];
+          const WorldPlane& plane = sticky_world_[s];
           const Real distance = plane.distance(xi);
           if (distance >= -on_face || distance < -2 * dx_) continue;  // on or in front of the face, or deep
           const Vec3 mirror = xi - 2 * distance * plane.normal;
