@@ -43,6 +43,7 @@ MpmSolver::MpmSolver(Setup setup)
       temperature_(particles_.add_scalar("temperature", "degC")),
       peak_temperature_(particles_.add_scalar("peak_temperature", "degC", false)),
       browning_(particles_.add_scalar("browning", "")),
+      surface_temperature_(particles_.add_scalar("surface_temperature", "degC")),
       f0_(particles_.add_vector("F_col0", "", false)),
       f1_(particles_.add_vector("F_col1", "", false)),
       f2_(particles_.add_vector("F_col2", "", false)),
@@ -183,6 +184,7 @@ void MpmSolver::build_particles() {
       jp_[k] = 1;
       jp_set_[k] = 1;
       temperature_[k] = body.temperature;
+      surface_temperature_[k] = body.temperature;
       peak_temperature_[k] = body.temperature;
       heat_capacity_[k] = m_[k] * mat.specific_heat;
       const bool wet = !s.baseline && mat.water.active();

@@ -129,8 +129,9 @@ class MpmSolver final : public Solver {
   std::vector<Real>& jp_;
   std::vector<Real>& jp_set_;  // J^P when the particle set (gelatinized)
   std::vector<Real>& temperature_;
-  std::vector<Real>& peak_temperature_;  // highest °C reached (irreversible setting)
-  std::vector<Real>& browning_;          // browning index B = ΔE/ΔE∞
+  std::vector<Real>& peak_temperature_;     // highest °C reached (irreversible setting)
+  std::vector<Real>& browning_;             // browning index B = ΔE/ΔE∞
+  std::vector<Real>& surface_temperature_;  // the face's temperature where the point meets the air, else θ
   std::vector<Vec3>& f0_;
   std::vector<Vec3>& f1_;
   std::vector<Vec3>& f2_;

@@ -1,5 +1,6 @@
 #pragma once
 // Heat exchange laws shared by the solvers.
+#include <algorithm>
 #include <cmath>
 
 #include "core/types.hpp"
@@ -43,6 +44,56 @@ inline Real radiative_coefficient(Real emissivity, Real surface_celsius, Real wa
   const Real t = surface_celsius + kZeroCelsius, w = wall_celsius + kZeroCelsius;
   return emissivity * kStefanBoltzmann * (w * w + t * t) * (w + t);
 }
+
+// The temperature of the face a surface particle turns to the oven (or to a
+// hot collider), from a quasi-steady profile through the layer the particle
+// stands for: from its centre (at its own temperature θ) to its face, a
+// distance L. A particle that has lost the fraction f of its water has dried
+// from the face in to the depth δ = min(2f, 1) L (the particle's whole
+// thickness is 2L; past its centre the front has left this half): that part
+// is crust of conductivity k_c, the rest moist dough of k_m. The face takes
+// q = h (θ_out − θ_f) and passes it on through R = δ/k_c + (L − δ)/k_m:
+//   θ_f = (h θ_out + θ/R) / (h + 1/R).
+// Moist dough cannot pass the boiling point θ_b: where the profile would put
+// the front above it, the front is pinned at θ_b (an evaporation front) and
+// θ_f = (h θ_out + (k_c/δ) θ_b) / (h + k_c/δ). Purlis & Salvadori (2009) model
+// the crust the same way, a dried layer over a boiling front; here it is
+// resolved inside the particle that holds it (a real crust, 1–3 mm, is thinner
+// than most particles). A material without water has f = 1: the half-cell
+// profile of its face. k_m = ∞ says the solver already holds the particle at
+// its face's temperature where nothing is pinned (MPM's exchange at the grid
+// nodes on the face): only a crust then adds to the profile.
+// Temperatures in °C, h in W/(m² K), L in m, k in W/(m K).
+struct CrustFace {
+  Real face_distance = 0;       // L, centre to face, m
+  Real dried_fraction = 1;      // f, share of the particle's water gone (1: a material without water)
+  Real crust_conductivity = 0;  // k_c, W/(m K)
+  Real moist_conductivity = 0;  // k_m, W/(m K); ∞: the particle stands for its face
+  bool moist = false;           // holds water, so its wet part stays at or below θ_b
+  Real boiling_point = 100;     // θ_b, °C
+
+  Real temperature(Real theta, Real outside, Real coefficient) const {
+    if (!(face_distance > 0) || !(coefficient > 0)) return theta;
+    const Real crust = std::min(2 * std::clamp(dried_fraction, Real(0), Real(1)), Real(1)) * face_distance;
+    const Real moist_resistance = (face_distance - crust) / moist_conductivity;
+    const Real resistance = (crust > 0 ? crust / crust_conductivity : 0) + moist_resistance;
+    if (!(resistance > 0) || !std::isfinite(resistance)) return theta;
+    const Real face = (coefficient * outside + theta / resistance) / (coefficient + 1 / resistance);
+    // The front (the crust's inner edge) lies the moist part's share of the drop above θ.
+    if (!moist || theta + (face - theta) * moist_resistance / resistance <= boiling_point) return face;
+    if (!(crust > 0)) return boiling_point;
+    const Real conductance = crust_conductivity / crust;
+    return (coefficient * outside + conductance * boiling_point) / (coefficient + conductance);
+  }
+  // The coefficient that gives the particle the face's heat, h (θ_out − θ_f),
+  // in Newton's form β (θ_out − θ) (W/(m² K)): the exchange a solver
+  // integrates when its particle does not stand for its face (SPH).
+  Real coefficient_to_centre(Real theta, Real outside, Real coefficient) const {
+    const Real gap = outside - theta;
+    if (std::abs(gap) < 1e-9) return coefficient;
+    return std::max(coefficient * (outside - temperature(theta, outside, coefficient)) / gap, Real(0));
+  }
+};
 
 // Surface heat exchange, the one law both solvers use for the oven air and
 // for hot colliders (Newton's law of cooling; thesis Eq 3.42–3.43, spec 4.3's

@@ -99,9 +99,17 @@ struct PoreWater {
   // insulates the crumb (shared/spec: 0.2–0.4 crumb, 0.05–0.1 crust).
   Real drying_conductivity_change(Real conductivity, Real moisture_now) const {
     if (!dry_conductivity || !(moisture > 0)) return 0;
-    const Real dried = std::clamp(1 - moisture_now / moisture, Real(0), Real(1));
-    return dried * (*dry_conductivity - conductivity);
+    return dried_fraction(moisture_now) * (*dry_conductivity - conductivity);
   }
+  // Share of the particle's water gone, 0 (as mixed) to 1 (dry): the outer
+  // part of a surface particle that has dried into crust (physics/heat.hpp,
+  // crust_face). Water that condensed above the initial content counts as 0.
+  Real dried_fraction(Real moisture_now) const {
+    if (!(moisture > 0)) return 1;
+    return std::clamp(1 - moisture_now / moisture, Real(0), Real(1));
+  }
+  // k of the dried crust: dry_conductivity, or the material's k (no heat pipe: no water).
+  Real crust_conductivity(Real conductivity) const { return dry_conductivity.value_or(conductivity); }
   Real liquid_diffusion(Real celsius) const { return liquid_diffusivity * std::max(celsius, Real(0)) / 100.0; }
   // Largest diffusivity of the coupled heat–water system a particle of
   // heat capacity per volume ρc (J/(m³K)) and dry density ρ_dry (kg/m³) sees

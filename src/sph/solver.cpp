@@ -81,6 +81,7 @@ SphSolver::SphSolver(Setup setup)
       m_(particles_.add_scalar("mass", "kg")),
       temperature_(particles_.add_scalar("temperature", "degC")),
       browning_(particles_.add_scalar("browning", "")),
+      surface_temperature_(particles_.add_scalar("surface_temperature", "degC")),
       mu_(particles_.add_scalar("viscosity", "Pa*s")),
       eps_(particles_.add_scalar("xsph_epsilon", "")),
       elasticity_(particles_.add_scalar("elasticity", "Pa")),
@@ -246,6 +247,8 @@ void SphSolver::seed_particles() {
     particle_k_.resize(total);
   }
   air_facing_.assign(total, 0);
+  face_outside_.assign(total, 0);
+  face_coefficient_.assign(total, 0);
   std::size_t k = 0;
   for (std::size_t bi = 0; bi < setup_.bodies.size(); ++bi) {
     const Body& b = setup_.bodies[bi];
@@ -258,6 +261,7 @@ void SphSolver::seed_particles() {
       m_[k] = mass_[b.material];
       rho_[k] = mat.rest_density;
       temperature_[k] = b.temperature;
+      surface_temperature_[k] = b.temperature;
       mu_[k] = evaluate(mat.viscosity, b.temperature);
       eps_[k] = std::clamp(evaluate(mat.xsph, b.temperature), 0.0, 1.0);
       elasticity_[k] = evaluate(mat.elasticity, b.temperature);

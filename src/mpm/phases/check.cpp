@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <limits>
 
 #include "core/errors.hpp"
 #include "core/health.hpp"
@@ -12,11 +13,37 @@
 
 namespace bakesim::mpm {
 
-// Crust colour (Zanoni et al. 1995, physics/browning.hpp) from each point's
-// temperature after this step's heat transfer, on the bake clock.
+// Crust colour (Zanoni et al. 1995, physics/browning.hpp) after this step's
+// heat transfer, on the bake clock. A point with area facing the air browns at
+// its face's temperature (physics/heat.hpp, CrustFace; the face is the
+// centroid of its air-facing nodes, `air_depth` away), any other at its own.
+// The exchange at the face's grid nodes already holds a point at its face's
+// temperature (tests/verification/test_crust_face.cpp), so only a moist
+// point's dried crust adds to it: k_m = ∞. Faces against hot colliders take the
+// point's temperature.
 void MpmSolver::phase_browning(Real dt) {
   ScopedPhase t(timers_, t_browning_);
-  setup_.oven.browning.advance_all(browning_, temperature_, setup_.oven.bake_step(dt));
+  const Oven& oven = setup_.oven;
+  const Real air = oven.air_temperature(bake_time());
+  parallel_for(
+      x_.size(),
+      [&](std::size_t p) {
+        const Real theta = temperature_[p];
+        surface_temperature_[p] = theta;
+        const Material& mat = setup_.materials[material_[p]];
+        const PoreWater& pw = mat.moisture;
+        if (!(air_area_[p] > 0) || !moist_ || !pw.active()) return;
+        CrustFace face;
+        face.face_distance = air_depth_[p];
+        face.dried_fraction = pw.dried_fraction(moisture_[p]);
+        face.crust_conductivity = pw.crust_conductivity(mat.conductivity);
+        face.moist_conductivity = std::numeric_limits<Real>::infinity();
+        face.moist = water_[p] > 0;
+        face.boiling_point = pw.boiling_point;
+        surface_temperature_[p] = face.temperature(theta, air, oven.surface_coefficient(theta, air));
+      },
+      4096);
+  oven.browning.advance_all(browning_, surface_temperature_, oven.bake_step(dt));
 }
 
 void MpmSolver::check_state() {

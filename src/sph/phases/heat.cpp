@@ -95,6 +95,7 @@ void SphSolver::phase_heat(Real dt) {
       [&](std::size_t i) {
         dtemp_[i] = 0.0;
         air_facing_[i] = 0;
+        face_coefficient_[i] = 0;  // no face: the browning phase takes the particle's temperature
         if (!surface_[i] || area_[i] <= 0 || setup_.bodies[body_[i]].hold_temperature) return;
         Real outside = air, coefficient = oven.surface_coefficient(temperature_[i], air);
         bool found = false;  // touching a heated collider (then no vapour leaves here)
@@ -121,21 +122,54 @@ void SphSolver::phase_heat(Real dt) {
           }
         }
         air_facing_[i] = !found;
+        face_outside_[i] = outside;
+        face_coefficient_[i] = coefficient;
         const Real capacity = m_[i] * setup_.materials[material_[i]].specific_heat;
         const Real before = temperature_[i];
-        temperature_[i] = SurfaceExchange::relax(before, outside, coefficient, area_[i], capacity, dt_bake);
+        // The face takes h (θ_out − θ_f) and passes it to the particle through its half-layer.
+        const Real to_centre = crust_face(i).coefficient_to_centre(before, outside, coefficient);
+        temperature_[i] = SurfaceExchange::relax(before, outside, to_centre, area_[i], capacity, dt_bake);
         dtemp_[i] = exchanged_energy(before, temperature_[i], capacity);
       },
       1024);
   exchanged_heat_ += deterministic_sum(n, [&](std::size_t i) { return dtemp_[i]; });
 }
 
-// Crust colour (Zanoni et al. 1995, physics/browning.hpp) from each particle's
-// temperature, on the bake clock. Every particle browns at its own
-// temperature; the crust browns first because it is the hottest.
+// The layer from particle i to its face: half its width, V^(1/3)/2; a moist
+// particle's dried share is crust (the material's dry_conductivity), the rest
+// conducts with the material's k and the closed-cell heat pipe.
+CrustFace SphSolver::crust_face(std::size_t i) const {
+  const Material& mi = setup_.materials[material_[i]];
+  const PoreWater& pw = mi.moisture;
+  CrustFace face;
+  face.face_distance = 0.5 * std::cbrt(volume_[i]);
+  face.crust_conductivity = pw.crust_conductivity(mi.conductivity);
+  face.moist_conductivity = mi.conductivity;
+  if (moist_ && pw.active()) {
+    const Real x = (*moisture_)[i];
+    face.dried_fraction = pw.dried_fraction(x);
+    face.moist_conductivity +=
+        pw.cell_conductivity(temperature_[i], x, pw.expanded_gas_fraction(mi.rest_density / rho_[i]));
+    face.moist = (*water_)[i] > 0;
+    face.boiling_point = pw.boiling_point;
+  }
+  return face;
+}
+
+// Crust colour (Zanoni et al. 1995, physics/browning.hpp) on the bake clock.
+// A surface particle browns at its face's temperature (crust_face above), any
+// other at its own; the crust browns first because it is the hottest.
 void SphSolver::phase_browning(Real dt) {
   ScopedPhase t(timers_, t_browning_);
-  setup_.oven.browning.advance_all(browning_, temperature_, setup_.oven.bake_step(dt));
+  parallel_for(
+      x_.size(),
+      [&](std::size_t i) {
+        const Real theta = temperature_[i];
+        surface_temperature_[i] =
+            face_coefficient_[i] > 0 ? crust_face(i).temperature(theta, face_outside_[i], face_coefficient_[i]) : theta;
+      },
+      4096);
+  setup_.oven.browning.advance_all(browning_, surface_temperature_, setup_.oven.bake_step(dt));
 }
 
 }  // namespace bakesim::sph
