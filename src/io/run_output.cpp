@@ -44,6 +44,9 @@ std::string stats_column_unit(const std::string& column, const ParticleSet& ps) 
                                                                             {"water:", "kg"},
                                                                             {"moisture_loss_percent:", "%"},
                                                                             {"weight_loss_percent:", "%"},
+                                                                            {"crust_thickness:", "m"},
+                                                                            {"crust_moisture:", "kg/kg"},
+                                                                            {"crumb_moisture:", "kg/kg"},
                                                                             {"co2_mol:", "mol"}};
   for (const auto& [prefix, unit] : prefixed)
     if (column.starts_with(prefix)) return unit;
@@ -219,6 +222,7 @@ std::vector<std::string> FrameRecorder::bake_summary() const {
     if (bake_->has_water())
       line += fmt::format(", moisture loss {:.1f} % ({:.1f} % of its weight)", std::max(0.0, k.moisture_loss_percent),
                           std::max(0.0, k.weight_loss_percent));
+    if (bake_->has_moisture()) line += fmt::format(", crust {:.1f} mm thick", 1e3 * k.crust_thickness);
     lines.push_back(line);
   }
   return lines;

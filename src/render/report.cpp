@@ -441,7 +441,7 @@ ReportResult write_report_of(const fs::path& run_dir, const ReportOptions& o) {
   h += "<h2>Results</h2>\n<table id=\"results\">\n<tr><th>body</th><th>core reaches " +
        fmt::format("{:g}", kDoneCoreDegC) +
        " °C at</th><th>core at the end</th><th>crust at the end</th><th>rise (volume)</th><th>height</th>"
-       "<th>moisture loss</th><th>weight loss</th></tr>\n";
+       "<th>moisture loss</th><th>weight loss</th><th>crust (moisture; crumb's)</th></tr>\n";
   for (const BodyResults& b : r.bodies) {
     const std::string done = !b.heated                          ? "–"
                              : std::isfinite(b.minutes_to_done) ? number(b.minutes_to_done, 1) + " min"
@@ -455,12 +455,16 @@ ReportResult write_report_of(const fs::path& run_dir, const ReportOptions& o) {
         "<tr data-body=\"{}\"><td>{}</td><td class=\"number\" data-key=\"done\">{}</td><td class=\"number\" "
         "data-key=\"core\">{}</td><td class=\"number\" data-key=\"crust\">{}</td><td class=\"number\" "
         "data-key=\"rise\">×{}</td><td class=\"number\" data-key=\"height\">{} → {} cm</td><td class=\"number\" "
-        "data-key=\"moisture\">{}</td><td class=\"number\" data-key=\"weight\">{}</td></tr>\n",
+        "data-key=\"moisture\">{}</td><td class=\"number\" data-key=\"weight\">{}</td><td class=\"number\" "
+        "data-key=\"crust-layer\">{}</td></tr>\n",
         escape(b.name), escape(b.name), done, b.heated ? number(b.core_end, 1) + " °C" : "–",
         b.heated ? number(b.crust_end, 1) + " °C" : "–", number(b.volume_ratio, 2), number(b.height_start * 100, 2),
         number(b.height_end * 100, 2),
         std::isfinite(b.moisture_loss_percent) ? number(b.moisture_loss_percent, 1) + " % of the water" : "–",
-        std::isfinite(weight_loss) ? number(weight_loss, 1) + " % of the mass" : "–");
+        std::isfinite(weight_loss) ? number(weight_loss, 1) + " % of the mass" : "–",
+        std::isfinite(b.crust_thickness) ? fmt::format("{} mm ({}; {} kg/kg)", number(b.crust_thickness * 1e3, 1),
+                                                       number(b.crust_moisture, 2), number(b.crumb_moisture, 2))
+                                         : "–");
   }
   h += "</table>\n<table id=\"totals\">\n";
   if (crust)

@@ -62,6 +62,9 @@ RunResults read_run_results(const fs::path& run_dir) {
     }
     if (const auto* crust = t.column("crust_temperature:" + b.name)) b.crust_end = crust->back();
     if (const auto* loss = t.column("moisture_loss_percent:" + b.name)) b.moisture_loss_percent = loss->back();
+    if (const auto* c = t.column("crust_thickness:" + b.name)) b.crust_thickness = c->back();
+    if (const auto* c = t.column("crust_moisture:" + b.name)) b.crust_moisture = c->back();
+    if (const auto* c = t.column("crumb_moisture:" + b.name)) b.crumb_moisture = c->back();
     r.bodies.push_back(std::move(b));
   }
   return r;

@@ -19,12 +19,14 @@ Series doneness_series(double from, double to);
 
 struct BodyResults {
   std::string name;
-  bool heated = false;                          // the run has core and crust columns for it
-  double core_end = NAN, crust_end = NAN;       // °C
-  double minutes_to_done = NAN;                 // bake minutes for the core to reach kDoneCoreDegC; NaN: never
-  double volume_ratio = NAN;                    // last frame / first frame
-  double height_start = NAN, height_end = NAN;  // m
-  double moisture_loss_percent = NAN;           // NaN: the run carries no water
+  bool heated = false;                                // the run has core and crust columns for it
+  double core_end = NAN, crust_end = NAN;             // °C
+  double minutes_to_done = NAN;                       // bake minutes for the core to reach kDoneCoreDegC; NaN: never
+  double volume_ratio = NAN;                          // last frame / first frame
+  double height_start = NAN, height_end = NAN;        // m
+  double moisture_loss_percent = NAN;                 // NaN: the run carries no water
+  double crust_thickness = NAN;                       // m, at the end; NaN: no moisture
+  double crust_moisture = NAN, crumb_moisture = NAN;  // kg/kg dry basis, at the end
 };
 
 struct RunResults {

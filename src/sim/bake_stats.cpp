@@ -1,5 +1,6 @@
 #include "sim/bake_stats.hpp"
 
+#include <algorithm>
 #include <limits>
 
 #include "core/parallel.hpp"
@@ -7,6 +8,9 @@
 namespace bakesim {
 
 namespace {
+
+// Dough at or past the boiling point (100 °C, less round-off of the boiling cap) has dried there: crust.
+constexpr Real kCrustFromCelsius = 99.5;
 
 const std::vector<Real>* area_attribute(const ParticleSet& ps) {
   if (ps.has("air_area")) return &ps.scalar("air_area");
@@ -19,10 +23,15 @@ const std::vector<Real>* area_attribute(const ParticleSet& ps) {
 BakeStatistics::BakeStatistics(const ParticleSet& initial, std::size_t bodies)
     : bodies_(bodies),
       water_(initial.has("water_mass")),
+      moisture_(water_ && initial.has("moisture") && initial.has("mass")),
       co2_(initial.has("co2") && initial.has("initial_volume")),
       initial_water_(bodies, 0.0),
-      initial_mass_(bodies, 0.0) {
-  if (!water_ || !initial.has("body_id")) return;
+      initial_mass_(bodies, 0.0),
+      initial_moisture_(bodies, 0.0) {
+  if (!water_ || !initial.has("body_id")) {
+    moisture_ = false;
+    return;
+  }
   // In particle order, one by one (the reference the moisture loss is measured against).
   const auto& water = initial.scalar("water_mass");
   const auto& body = initial.integer("body_id");
@@ -30,6 +39,13 @@ BakeStatistics::BakeStatistics(const ParticleSet& initial, std::size_t bodies)
   if (initial.has("mass")) {
     const auto& mass = initial.scalar("mass");
     for (std::size_t i = 0; i < initial.size(); ++i) initial_mass_[body[i]] += mass[i];
+  }
+  if (moisture_) {
+    const auto& moisture = initial.scalar("moisture");
+    for (std::size_t i = 0; i < initial.size(); ++i)
+      initial_moisture_[body[i]] = std::max(initial_moisture_[body[i]], moisture[i]);
+    // MPM points carry the attribute whether or not their dough holds moisture.
+    moisture_ = std::any_of(initial_moisture_.begin(), initial_moisture_.end(), [](Real x) { return x > 0; });
   }
 }
 
@@ -39,6 +55,11 @@ std::vector<std::string> BakeStatistics::columns(const std::string& body) const 
     out.push_back("water:" + body);
     out.push_back("moisture_loss_percent:" + body);
     out.push_back("weight_loss_percent:" + body);
+  }
+  if (moisture_) {
+    out.push_back("crust_thickness:" + body);
+    out.push_back("crust_moisture:" + body);
+    out.push_back("crumb_moisture:" + body);
   }
   if (co2_) out.push_back("co2_mol:" + body);
   return out;
@@ -51,6 +72,11 @@ std::vector<Real> BakeStatistics::values(const BodyBake& b) const {
     out.push_back(b.moisture_loss_percent);
     out.push_back(b.weight_loss_percent);
   }
+  if (moisture_) {
+    out.push_back(b.crust_thickness);
+    out.push_back(b.crust_moisture);
+    out.push_back(b.crumb_moisture);
+  }
   if (co2_) out.push_back(b.co2);
   return out;
 }
@@ -58,6 +84,7 @@ std::vector<Real> BakeStatistics::values(const BodyBake& b) const {
 std::vector<BodyBake> BakeStatistics::compute(const ParticleSet& ps) const {
   struct Acc {
     Real tmin = std::numeric_limits<Real>::infinity(), area = 0, area_t = 0, water = 0, co2 = 0;
+    Real dried_volume = 0, outer_mass = 0, outer_moisture = 0, inner_mass = 0, inner_moisture = 0;
   };
   const std::size_t nb = bodies_;
   std::vector<BodyBake> out(nb);
@@ -68,6 +95,17 @@ std::vector<BodyBake> BakeStatistics::compute(const ParticleSet& ps) const {
   const std::vector<Real>* water = water_ ? &ps.scalar("water_mass") : nullptr;
   const std::vector<Real>* co2 = co2_ ? &ps.scalar("co2") : nullptr;
   const std::vector<Real>* volume0 = co2_ ? &ps.scalar("initial_volume") : nullptr;
+  const std::vector<Real>* moisture = moisture_ ? &ps.scalar("moisture") : nullptr;
+  const std::vector<Real>* mass = moisture_ ? &ps.scalar("mass") : nullptr;
+  // A particle's volume: m/ρ (SPH), J V₀ (MPM).
+  const std::vector<Real>* density = ps.has("density") ? &ps.scalar("density") : nullptr;
+  const std::vector<Real>* ratio = ps.has("J") ? &ps.scalar("J") : nullptr;
+  const std::vector<Real>* initial_volume = ps.has("initial_volume") ? &ps.scalar("initial_volume") : nullptr;
+  const auto volume = [&](std::size_t i) -> Real {
+    if (density && (*density)[i] > 0) return (*mass)[i] / (*density)[i];
+    if (ratio && initial_volume) return (*ratio)[i] * (*initial_volume)[i];
+    return 0;
+  };
   const std::vector<Acc> acc = deterministic_reduce(
       ps.size(), std::vector<Acc>(nb),
       [&](std::size_t b, std::size_t e) {
@@ -81,6 +119,19 @@ std::vector<BodyBake> BakeStatistics::compute(const ParticleSet& ps) const {
           }
           if (water) s.water += (*water)[i];
           if (co2) s.co2 += (*co2)[i] * (*volume0)[i];
+          if (moisture) {
+            const Real x = (*moisture)[i], x0 = initial_moisture_[body[i]];
+            if (x0 > 0 && t[i] >= kCrustFromCelsius)
+              s.dried_volume += volume(i) * std::clamp(1 - x / x0, Real(0), Real(1));
+            // The particle's outer share: its exchange area over its cross-section (MPM gives interior
+            // points specks of area from the noise of the grid's boundary field).
+            const Real v = volume(i);
+            const Real outer = area && v > 0 ? std::min(Real(1), (*area)[i] / std::cbrt(v * v)) : Real(0);
+            s.outer_mass += outer * (*mass)[i];
+            s.outer_moisture += outer * (*mass)[i] * x;
+            s.inner_mass += (1 - outer) * (*mass)[i];
+            s.inner_moisture += (1 - outer) * (*mass)[i] * x;
+          }
         }
         return a;
       },
@@ -91,6 +142,11 @@ std::vector<BodyBake> BakeStatistics::compute(const ParticleSet& ps) const {
           a[k].area_t += b[k].area_t;
           a[k].water += b[k].water;
           a[k].co2 += b[k].co2;
+          a[k].dried_volume += b[k].dried_volume;
+          a[k].outer_mass += b[k].outer_mass;
+          a[k].outer_moisture += b[k].outer_moisture;
+          a[k].inner_mass += b[k].inner_mass;
+          a[k].inner_moisture += b[k].inner_moisture;
         }
         return a;
       });
@@ -103,6 +159,9 @@ std::vector<BodyBake> BakeStatistics::compute(const ParticleSet& ps) const {
     out[b].weight_loss_percent =
         initial_mass_[b] > 0 ? 100.0 * (initial_water_[b] - acc[b].water) / initial_mass_[b] : 0.0;
     out[b].co2 = acc[b].co2;
+    out[b].crust_thickness = acc[b].area > 0 ? acc[b].dried_volume / acc[b].area : 0.0;
+    out[b].crust_moisture = acc[b].outer_mass > 0 ? acc[b].outer_moisture / acc[b].outer_mass : nan;
+    out[b].crumb_moisture = acc[b].inner_mass > 0 ? acc[b].inner_moisture / acc[b].inner_mass : nan;
   }
   return out;
 }

@@ -8,6 +8,16 @@
 //   moisture_loss_percent  the share of the body's initial water gone, %
 //   weight_loss_percent    the water gone as a share of the body's initial mass, %
 //                          (the bake loss a food engineer weighs)
+//   crust_thickness     the crust (the dough dried at or past the boiling point)
+//                       as a layer over the exchange area: Σ V f / A over the
+//                       particles at θ ≥ θ_b − 0.5 K, f = 1 − X/X₀ the share of
+//                       a particle's water gone (X₀ the body's initial
+//                       moisture), A the exchange area above, m
+//   crust_moisture      the outer layer's moisture, kg water / kg dry solid: the
+//                       mean over the particles weighted by mass × their outer
+//                       share, min(1, A / V^(2/3)) (exchange area over cross-section)
+//   crumb_moisture      the same weighted by mass × (1 − outer share)
+//                          (these three where particles carry moisture)
 //   co2_mol             Σ co2 · initial_volume, mol             (where particles carry CO2)
 // Reductions are deterministic: the same state gives the same numbers on any
 // thread count.
@@ -20,7 +30,7 @@ namespace bakesim {
 
 struct BodyBake {
   Real core_temperature = 0, crust_temperature = 0, water = 0, moisture_loss_percent = 0, weight_loss_percent = 0,
-       co2 = 0;
+       crust_thickness = 0, crust_moisture = 0, crumb_moisture = 0, co2 = 0;
 };
 
 class BakeStatistics {
@@ -29,6 +39,7 @@ class BakeStatistics {
   // reference for the moisture loss); `bodies`: how many bodies there are.
   BakeStatistics(const ParticleSet& initial, std::size_t bodies);
   bool has_water() const { return water_; }
+  bool has_moisture() const { return moisture_; }
   bool has_co2() const { return co2_; }
   // Column names for one body, in order.
   std::vector<std::string> columns(const std::string& body) const;
@@ -38,8 +49,8 @@ class BakeStatistics {
 
  private:
   std::size_t bodies_;
-  bool water_ = false, co2_ = false;
-  std::vector<Real> initial_water_, initial_mass_;
+  bool water_ = false, moisture_ = false, co2_ = false;
+  std::vector<Real> initial_water_, initial_mass_, initial_moisture_;
 };
 
 }  // namespace bakesim

@@ -303,6 +303,42 @@ TEST(BakeStatistics, CoreIsTheColdestCrustIsAreaWeightedAndMoistureIsMeasuredFro
   EXPECT_NEAR(b[1].moisture_loss_percent, 0.0, 1e-12);
 }
 
+TEST(BakeStatistics, CrustIsTheDoughDriedAtTheBoilingPointSpreadOverTheExchangeArea) {
+  // SPH-like particles of 1 cm³ (m/ρ), moisture X₀ = 0.8: a boiling surface particle that lost
+  // half its water, a dry one past 100 °C, a crumb particle at 90 °C that lost some to vapour.
+  ParticleSet ps;
+  auto& t = ps.add_scalar("temperature", "degC");
+  auto& area = ps.add_scalar("surface_area", "m^2");
+  auto& water = ps.add_scalar("water_mass", "kg");
+  auto& moisture = ps.add_scalar("moisture", "kg/kg");
+  auto& body = ps.add_int("body_id");
+  auto& mass = ps.add_scalar("mass", "kg");
+  auto& density = ps.add_scalar("density", "kg/m^3");
+  ps.resize(3);
+  body = {0, 0, 0};
+  mass = {1e-3, 1e-3, 1e-3};
+  density = {1000, 1000, 1000};
+  moisture = {0.8, 0.8, 0.8};
+  water = {4e-4, 4e-4, 4e-4};
+  t = {20, 20, 20};
+  area = {0, 0, 0};
+  const BakeStatistics stats(ps, 1);
+  EXPECT_TRUE(stats.has_moisture());
+  const std::vector<std::string> columns = stats.columns("roll");
+  EXPECT_EQ(std::vector<std::string>(columns.end() - 3, columns.end()),
+            (std::vector<std::string>{"crust_thickness:roll", "crust_moisture:roll", "crumb_moisture:roll"}));
+  const Real face = 1e-4;  // the full cross-section of a 1 cm cube
+  moisture = {0.4, 0.0, 0.6};
+  t = {100, 130, 90};
+  area = {face, 0.5 * face, 0};
+  const BodyBake b = stats.compute(ps)[0];
+  // Dried at or past boiling: half of the first, all of the second; the crumb's loss is not crust.
+  EXPECT_NEAR(b.crust_thickness, (0.5e-6 + 1e-6) / (1.5 * face), 1e-12);
+  // Outer shares 1, 0.5, 0.
+  EXPECT_NEAR(b.crust_moisture, (1 * 0.4 + 0.5 * 0.0) / 1.5, 1e-12);
+  EXPECT_NEAR(b.crumb_moisture, (0.5 * 0.0 + 1 * 0.6) / 1.5, 1e-12);
+}
+
 TEST(Pcg, SolvesScalarAndThreeComponentSystemsAndReportsWhatFailed) {
   // A = tridiag(−1, 2 + c, −1), SPD; compare with Eigen's dense solve.
   const std::size_t n = 40;

@@ -11,6 +11,7 @@
 #include <cmath>
 
 #include "helpers.hpp"
+#include "sim/bake_stats.hpp"
 #include "mpm/solver.hpp"
 
 using namespace bakesim;
@@ -172,14 +173,25 @@ TEST_P(WaterBudgets, WaterAndEnergyCloseMoistDoughStaysAtBoilingAndTheCrustDries
     solver = test_support::make_mpm(doc);
   const double c = 2500;
   const Totals start = totals(*solver, c);
+  const ParticleSet start_particles = solver->particles();
   double hottest_moist = -1e9;
-  test_support::advance_to(*solver, 0.45, [&] {  // 15 bake minutes
+  const auto watch = [&] {
     const auto& ps = solver->particles();
     const auto& x = ps.scalar("moisture");
     const auto& t = ps.scalar("temperature");
     for (std::size_t i = 0; i < x.size(); ++i)
       if (x[i] > 0.3) hottest_moist = std::max(hottest_moist, t[i]);
-  });
+  };
+  // After 3 bake minutes the per-body stats see a crust a fraction of the block thick, drier
+  // than the crumb.
+  test_support::advance_to(*solver, 0.09, watch);
+  const BodyBake early = BakeStatistics(start_particles, 1).compute(solver->particles())[0];
+  EXPECT_GT(early.crust_thickness, 0.0);
+  EXPECT_LT(early.crust_thickness, 0.015);  // half the block
+  EXPECT_LT(early.crust_moisture, early.crumb_moisture);
+  std::printf("%s after 3 min: crust %.2f mm thick, crust moisture %.3f, crumb %.3f\n", GetParam().c_str(),
+              1e3 * early.crust_thickness, early.crust_moisture, early.crumb_moisture);
+  test_support::advance_to(*solver, 0.45, watch);  // 15 bake minutes
   const Totals end = totals(*solver, c);
   const double gone = quantity(*solver, "water_evaporated");
   EXPECT_GT(gone, 0.05 * start.water);  // it really dried
