@@ -7,13 +7,15 @@
 // Ea = 64 151 J/mol. The state each solver carries is the browning index
 // B = ΔE / ΔE∞ in [0, 1): 0 raw, → 1 burnt. Browning runs on the bake clock.
 #include <cmath>
-#include <vector>
 
-#include "core/parallel.hpp"
 #include "core/types.hpp"
 #include "physics/constants.hpp"
 
 namespace bakesim {
+
+// How far past its boiling point moist dough's surface must be to brown: a
+// hundredth of a kelvin, so round-off on the boiling plateau does not count.
+inline constexpr Real kBrowningAboveBoiling = 0.01;
 
 struct BrowningKinetics {
   Real max_colour_difference = 52.0;  // ΔE∞ (CIE L*a*b* distance of the burnt crust)
@@ -29,10 +31,14 @@ struct BrowningKinetics {
     return 1.0 - (1.0 - index) * std::exp(-rate(temperature_c) * dt_bake);
   }
   Real colour_difference(Real index) const { return index * max_colour_difference; }
-  // Every particle's index over one step of bake time dt_bake, each at its own
-  // temperature (the browning phase of both solvers).
-  void advance_all(std::vector<Real>& index, const std::vector<Real>& temperature, Real dt_bake) const {
-    parallel_for(index.size(), [&](std::size_t i) { index[i] = advance(index[i], temperature[i], dt_bake); });
+  // Over one step where the surface is above `from` °C, else unchanged. Moist
+  // dough browns only once it has dried past the boiling point (the spec's
+  // "browning then runs only where the crust is above 100 °C"; Zanoni et al.
+  // measured the kinetics on dried crumb): the crumb, held at or below it by
+  // its water, stays pale. Materials without water pass −∞ and brown at any
+  // temperature.
+  Real advance_above(Real index, Real temperature_c, Real from_c, Real dt_bake) const {
+    return temperature_c > from_c ? advance(index, temperature_c, dt_bake) : index;
   }
 };
 

@@ -212,6 +212,11 @@ TEST_P(WaterBudgets, WaterAndEnergyCloseMoistDoughStaysAtBoilingAndTheCrustDries
   }
   EXPECT_LT(driest, 0.05);
   EXPECT_GT(hottest, 110.0);
+  // The dried crust past the boiling point has browned (Browning.* for the moist crumb).
+  double palest_crust = 1;
+  for (std::size_t i = 0; i < ps.size(); ++i)
+    if (ps.scalar("temperature")[i] > 110) palest_crust = std::min(palest_crust, ps.scalar("browning")[i]);
+  EXPECT_GT(palest_crust, 0.0);
   RecordProperty("water_gone_percent", std::to_string(100 * gone / start.water));
 }
 

@@ -25,25 +25,30 @@ void MpmSolver::phase_browning(Real dt) {
   ScopedPhase t(timers_, t_browning_);
   const Oven& oven = setup_.oven;
   const Real air = oven.air_temperature(bake_time());
+  const Real dt_bake = oven.bake_step(dt);
   parallel_for(
       x_.size(),
       [&](std::size_t p) {
         const Real theta = temperature_[p];
-        surface_temperature_[p] = theta;
         const Material& mat = setup_.materials[material_[p]];
         const PoreWater& pw = mat.moisture;
-        if (!(air_area_[p] > 0) || !moist_ || !pw.active()) return;
-        CrustFace face;
-        face.face_distance = air_depth_[p];
-        face.dried_fraction = pw.dried_fraction(moisture_[p]);
-        face.crust_conductivity = pw.crust_conductivity(mat.conductivity);
-        face.moist_conductivity = std::numeric_limits<Real>::infinity();
-        face.moist = water_[p] > 0;
-        face.boiling_point = pw.boiling_point;
-        surface_temperature_[p] = face.temperature(theta, air, oven.surface_coefficient(theta, air));
+        const bool wet = moist_ && pw.active();
+        surface_temperature_[p] = theta;
+        // Moist dough browns only above its boiling point (physics/browning.hpp, advance_above).
+        const Real from = wet ? pw.boiling_point + kBrowningAboveBoiling : -std::numeric_limits<Real>::infinity();
+        if (air_area_[p] > 0 && wet) {
+          CrustFace face;
+          face.face_distance = air_depth_[p];
+          face.dried_fraction = pw.dried_fraction(moisture_[p]);
+          face.crust_conductivity = pw.crust_conductivity(mat.conductivity);
+          face.moist_conductivity = std::numeric_limits<Real>::infinity();
+          face.moist = water_[p] > 0;
+          face.boiling_point = pw.boiling_point;
+          surface_temperature_[p] = face.temperature(theta, air, oven.surface_coefficient(theta, air));
+        }
+        browning_[p] = oven.browning.advance_above(browning_[p], surface_temperature_[p], from, dt_bake);
       },
       4096);
-  oven.browning.advance_all(browning_, surface_temperature_, oven.bake_step(dt));
 }
 
 void MpmSolver::check_state() {

@@ -158,18 +158,23 @@ CrustFace SphSolver::crust_face(std::size_t i) const {
 
 // Crust colour (Zanoni et al. 1995, physics/browning.hpp) on the bake clock.
 // A surface particle browns at its face's temperature (crust_face above), any
-// other at its own; the crust browns first because it is the hottest.
+// other at its own; moist dough only above its boiling point (the dried crust).
 void SphSolver::phase_browning(Real dt) {
   ScopedPhase t(timers_, t_browning_);
+  const BrowningKinetics& kinetics = setup_.oven.browning;
+  const Real dt_bake = setup_.oven.bake_step(dt);
   parallel_for(
       x_.size(),
       [&](std::size_t i) {
         const Real theta = temperature_[i];
         surface_temperature_[i] =
             face_coefficient_[i] > 0 ? crust_face(i).temperature(theta, face_outside_[i], face_coefficient_[i]) : theta;
+        const PoreWater& pw = setup_.materials[material_[i]].moisture;
+        const Real from =
+            moist_ && pw.active() ? pw.boiling_point + kBrowningAboveBoiling : -std::numeric_limits<Real>::infinity();
+        browning_[i] = kinetics.advance_above(browning_[i], surface_temperature_[i], from, dt_bake);
       },
       4096);
-  setup_.oven.browning.advance_all(browning_, surface_temperature_, setup_.oven.bake_step(dt));
 }
 
 }  // namespace bakesim::sph
