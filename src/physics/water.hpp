@@ -103,7 +103,7 @@ struct PoreWater {
   }
   // Share of the particle's water gone, 0 (as mixed) to 1 (dry): the outer
   // part of a surface particle that has dried into crust (physics/heat.hpp,
-  // crust_face). Water that condensed above the initial content counts as 0.
+  // CrustFace). Water that condensed above the initial content counts as 0.
   Real dried_fraction(Real moisture_now) const {
     if (!(moisture > 0)) return 1;
     return std::clamp(1 - moisture_now / moisture, Real(0), Real(1));
