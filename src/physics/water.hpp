@@ -22,8 +22,12 @@
 #include <cmath>
 #include <optional>
 
+#include <limits>
+
 #include "core/types.hpp"
+#include "physics/browning.hpp"
 #include "physics/constants.hpp"
+#include "physics/heat.hpp"
 
 namespace bakesim {
 
@@ -110,6 +114,24 @@ struct PoreWater {
   }
   // k of the dried crust: dry_conductivity, or the material's k (no heat pipe: no water).
   Real crust_conductivity(Real conductivity) const { return dry_conductivity.value_or(conductivity); }
+  // The profile from a particle of this moist dough to its face (physics/heat.hpp): L from its centre, its
+  // moisture X and water W now, the material's k; its moist part conducts with k_m.
+  CrustFace crust_face(Real face_distance, Real moisture_now, Real water, Real conductivity,
+                       Real moist_conductivity) const {
+    CrustFace face;
+    face.face_distance = face_distance;
+    face.dried_fraction = dried_fraction(moisture_now);
+    face.crust_conductivity = crust_conductivity(conductivity);
+    face.moist_conductivity = moist_conductivity;
+    face.moist = water > 0;
+    face.boiling_point = boiling_point;
+    return face;
+  }
+  // The temperature a surface must pass to brown (physics/browning.hpp, advance_above): moist dough's
+  // boiling point when the solver carries its moisture (`carried`), else −∞ (browns at any temperature).
+  Real browning_threshold(bool carried) const {
+    return carried && active() ? boiling_point + kBrowningAboveBoiling : -std::numeric_limits<Real>::infinity();
+  }
   Real liquid_diffusion(Real celsius) const { return liquid_diffusivity * std::max(celsius, Real(0)) / 100.0; }
   // Largest diffusivity of the coupled heat–water system a particle of
   // heat capacity per volume ρc (J/(m³K)) and dry density ρ_dry (kg/m³) sees

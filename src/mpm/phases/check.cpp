@@ -23,6 +23,7 @@ namespace bakesim::mpm {
 // point's temperature.
 void MpmSolver::phase_browning(Real dt) {
   ScopedPhase t(timers_, t_browning_);
+  constexpr Real kStandsForItsFace = std::numeric_limits<Real>::infinity();  // k_m: no moist-part resistance
   const Oven& oven = setup_.oven;
   const Real air = oven.air_temperature(bake_time());
   const Real dt_bake = oven.bake_step(dt);
@@ -32,21 +33,14 @@ void MpmSolver::phase_browning(Real dt) {
         const Real theta = temperature_[p];
         const Material& mat = setup_.materials[material_[p]];
         const PoreWater& pw = mat.moisture;
-        const bool wet = moist_ && pw.active();
         surface_temperature_[p] = theta;
+        if (air_area_[p] > 0 && moist_ && pw.active())
+          surface_temperature_[p] =
+              pw.crust_face(air_depth_[p], moisture_[p], water_[p], mat.conductivity, kStandsForItsFace)
+                  .temperature(theta, air, oven.surface_coefficient(theta, air));
         // Moist dough browns only above its boiling point (physics/browning.hpp, advance_above).
-        const Real from = wet ? pw.boiling_point + kBrowningAboveBoiling : -std::numeric_limits<Real>::infinity();
-        if (air_area_[p] > 0 && wet) {
-          CrustFace face;
-          face.face_distance = air_depth_[p];
-          face.dried_fraction = pw.dried_fraction(moisture_[p]);
-          face.crust_conductivity = pw.crust_conductivity(mat.conductivity);
-          face.moist_conductivity = std::numeric_limits<Real>::infinity();
-          face.moist = water_[p] > 0;
-          face.boiling_point = pw.boiling_point;
-          surface_temperature_[p] = face.temperature(theta, air, oven.surface_coefficient(theta, air));
-        }
-        browning_[p] = oven.browning.advance_above(browning_[p], surface_temperature_[p], from, dt_bake);
+        browning_[p] =
+            oven.browning.advance_above(browning_[p], surface_temperature_[p], pw.browning_threshold(moist_), dt_bake);
       },
       4096);
 }

@@ -15,7 +15,8 @@ namespace bakesim::sph {
 // pairs), so the Laplacian is taken in the Cleary–Monaghan form
 //   (∇·k∇T)_i = Σ_j V_j (k_i + k_j)(T_i − T_j) x_ij·∇W_ij / (r² + η²),
 // which is always diffusive and exchanges heat pairwise (energy is conserved).
-// Then Eq 3.42–3.43 at surface particles: m c_p dT/dt = h A (T_ext − T) with
+// Then Eq 3.42–3.43 at surface particles, taken at the particle's face:
+// m c_p dT/dt = h A (T_ext − T_face) (crust_face below, physics/heat.hpp) with
 // T_ext the touching collider's temperature, or the oven air's. Heat runs on
 // the bake clock: dt_bake = scale · dt.
 void SphSolver::phase_heat(Real dt) {
@@ -141,19 +142,17 @@ void SphSolver::phase_heat(Real dt) {
 CrustFace SphSolver::crust_face(std::size_t i) const {
   const Material& mi = setup_.materials[material_[i]];
   const PoreWater& pw = mi.moisture;
-  CrustFace face;
-  face.face_distance = 0.5 * std::cbrt(volume_[i]);
-  face.crust_conductivity = pw.crust_conductivity(mi.conductivity);
-  face.moist_conductivity = mi.conductivity;
-  if (moist_ && pw.active()) {
-    const Real x = (*moisture_)[i];
-    face.dried_fraction = pw.dried_fraction(x);
-    face.moist_conductivity +=
-        pw.cell_conductivity(temperature_[i], x, pw.expanded_gas_fraction(mi.rest_density / rho_[i]));
-    face.moist = (*water_)[i] > 0;
-    face.boiling_point = pw.boiling_point;
+  const Real half_width = 0.5 * std::cbrt(volume_[i]);
+  if (!(moist_ && pw.active())) {  // no water: the half-cell profile with the material's k
+    CrustFace dry;
+    dry.face_distance = half_width;
+    dry.crust_conductivity = pw.crust_conductivity(mi.conductivity);
+    dry.moist_conductivity = mi.conductivity;
+    return dry;
   }
-  return face;
+  const Real x = (*moisture_)[i];
+  const Real heat_pipe = pw.cell_conductivity(temperature_[i], x, pw.expanded_gas_fraction(mi.rest_density / rho_[i]));
+  return pw.crust_face(half_width, x, (*water_)[i], mi.conductivity, mi.conductivity + heat_pipe);
 }
 
 // Crust colour (Zanoni et al. 1995, physics/browning.hpp) on the bake clock.
@@ -169,9 +168,7 @@ void SphSolver::phase_browning(Real dt) {
         const Real theta = temperature_[i];
         surface_temperature_[i] =
             face_coefficient_[i] > 0 ? crust_face(i).temperature(theta, face_outside_[i], face_coefficient_[i]) : theta;
-        const PoreWater& pw = setup_.materials[material_[i]].moisture;
-        const Real from =
-            moist_ && pw.active() ? pw.boiling_point + kBrowningAboveBoiling : -std::numeric_limits<Real>::infinity();
+        const Real from = setup_.materials[material_[i]].moisture.browning_threshold(moist_);
         browning_[i] = kinetics.advance_above(browning_[i], surface_temperature_[i], from, dt_bake);
       },
       4096);
