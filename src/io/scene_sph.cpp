@@ -81,6 +81,7 @@ sph::Settings build_settings(const json& doc) {
   st.surface_colour_threshold = sj["surface"]["colour_threshold"].get<double>();
   st.surface_hull_threshold = sj["surface"]["hull_threshold"].get<double>();
   st.surface_every = sj["surface"]["every_steps"].get<int>();
+  st.surface_open_space = sj["surface"]["open_space"].get<bool>();
   st.viscosity_solver = sph::parse_viscosity_solver(sj["viscosity_solver"].get<std::string>());
   st.stress_viscosity = sj["viscosity_operator"].get<std::string>() == "stress";
   if (st.stress_viscosity && st.viscosity_solver == sph::ViscositySolver::explicit_euler)

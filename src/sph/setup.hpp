@@ -98,6 +98,7 @@ struct Settings {
   Real surface_colour_threshold = 0.6;  // |∇C| · h at or above which a particle is on the surface
   Real surface_hull_threshold = 0.5;    // hull boundary closer than this × spacing: on the surface
   int surface_every = 1;                // steps between surface detections
+  bool surface_open_space = false;      // keep flags only where open space lies along the outward normal
   ViscositySolver viscosity_solver = ViscositySolver::automatic;
   // Stress-form viscosity (implicit only): the force is the divergence of
   // 2μ dev D from corrected kernel gradients, so free surfaces carry the

@@ -33,6 +33,7 @@
 #include "core/pcg.hpp"
 #include "core/solver.hpp"
 #include "geometry/colliders.hpp"
+#include "geometry/open_space.hpp"
 #include "physics/oven.hpp"
 #include "sph/kernels.hpp"
 #include "sph/neighbours.hpp"
@@ -267,6 +268,8 @@ class SphSolver final : public Solver {
   std::vector<Real> p_over_rho2_;        // P/ρ², per particle (pressure phase)
   std::vector<Real> volume_;             // m/ρ, per particle (pressure phase)
   std::vector<Vec3> colour_grad_;        // Σ V_j ∇W_ij (points into the fluid), surface phase
+  std::vector<Real> fill_radius_;        // (m/ρ)^(1/3), the ball each particle fills (surface phase)
+  OpenSpaceGrid open_space_;             // the space open to the outside (surface phase)
   std::vector<Mat3> stress_rho2_;        // S/ρ², per particle (pressure phase)
   std::vector<Mat3> artificial_stress_;  // R_i of Monaghan (2000), per particle (forces phase)
   // No-slip walls, per particle (forces phase, read by the viscosity phase):

@@ -9,6 +9,7 @@
 #include "geometry/colliders.hpp"
 #include "geometry/mesh_io.hpp"
 #include "geometry/motion.hpp"
+#include "geometry/open_space.hpp"
 #include "geometry/shapes.hpp"
 
 using namespace bakesim;
@@ -313,4 +314,38 @@ TEST(Motion, KeyframesInterpolateAndVelocityMatchesTheMotion) {
   // Held after the last keyframe, at rest.
   EXPECT_TRUE(motion.at(5).velocity.isZero());
   EXPECT_NEAR(motion.at(5).translation.y(), 0.1, 1e-12);
+}
+
+// OpenSpaceGrid: a lattice cube with a closed cavity (a 3×3×3 block of
+// lattice sites left out at its centre) and a channel: the space round the
+// cube is open, the cavity is not; opened by a channel to the outside, it is.
+TEST(OpenSpace, TheSpaceRoundABodyIsOpenAndAClosedCavityIsNot) {
+  const Real s = 0.001;
+  auto cube = [&](bool channel) {
+    std::vector<Vec3> x;
+    for (int i = 0; i < 15; ++i)
+      for (int j = 0; j < 15; ++j)
+        for (int k = 0; k < 15; ++k) {
+          const bool cavity = std::abs(i - 7) <= 2 && std::abs(j - 7) <= 2 && std::abs(k - 7) <= 2;
+          const bool tunnel = channel && std::abs(i - 7) <= 2 && std::abs(k - 7) <= 2 && j > 7;
+          if (!cavity && !tunnel) x.emplace_back(i * s, j * s, k * s);
+        }
+    return x;
+  };
+  const Vec3 centre(7 * s, 7 * s, 7 * s), up(0, 1, 0);
+  for (const bool channel : {false, true}) {
+    const std::vector<Vec3> x = cube(channel);
+    const std::vector<Real> radii(x.size(), s);
+    OpenSpaceGrid grid;
+    grid.build(x, radii, s);
+    EXPECT_TRUE(grid.open_at(Vec3(7 * s, 18 * s, 7 * s)));  // above the cube
+    EXPECT_TRUE(grid.open_at(Vec3(-3 * s, 7 * s, 7 * s)));  // beside it
+    EXPECT_TRUE(grid.open_at(Vec3(1, 1, 1)));               // far outside the grid
+    EXPECT_EQ(grid.open_at(centre), channel) << "channel " << channel;
+    // A particle on the cube's top face sees open space within its size and two spacings; one deep inside does not.
+    EXPECT_TRUE(grid.open_along(Vec3(3 * s, 14 * s, 3 * s), up, 3 * s));
+    EXPECT_FALSE(grid.open_along(Vec3(3 * s, 3 * s, 3 * s), up, 3 * s));
+    // The cavity's wall, looking into the cavity (down from its roof).
+    EXPECT_EQ(grid.open_along(Vec3(7 * s, 10 * s, 7 * s), -up, 3 * s), channel);
+  }
 }

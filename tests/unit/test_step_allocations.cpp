@@ -34,10 +34,12 @@ using namespace bakesim;
 
 class StepAllocations : public ::testing::TestWithParam<std::string> {};
 
-TEST_P(StepAllocations, NoneOnceWarm) {
+namespace {
+
+void expect_none_once_warm(const std::string& name, std::vector<SceneOverride> overrides = {}) {
   std::string path = BAKESIM_SOURCE_DIR;  // appended in steps: GCC 12 warns falsely on a + b + c + d at -O1
-  path += "/scenes/" + GetParam() + ".json";
-  const Scene scene = load_scene(path, {}, true);
+  path += "/scenes/" + name + ".json";
+  const Scene scene = load_scene(path, std::move(overrides), true);
   auto solver = make_solver(scene);
   // Warm: scratch vectors, neighbour lists and solver workspaces reach their sizes.
   for (int k = 0; k < 30; ++k) solver->step(solver->max_stable_dt());
@@ -45,12 +47,21 @@ TEST_P(StepAllocations, NoneOnceWarm) {
   g_counting = true;
   for (int k = 0; k < 60; ++k) solver->step(solver->max_stable_dt());
   g_counting = false;
-  EXPECT_EQ(g_allocations.load(), 0) << GetParam() << ": heap allocations in 60 steps";
+  EXPECT_EQ(g_allocations.load(), 0) << name << ": heap allocations in 60 steps";
   // The counter sees allocations at all (a test that cannot fail is no test).
   g_counting = true;
   const std::string probe(64, 'x');
   g_counting = false;
   EXPECT_GE(g_allocations.load(), 1);
+}
+
+}  // namespace
+
+TEST_P(StepAllocations, NoneOnceWarm) { expect_none_once_warm(GetParam()); }
+
+// The surface phase's open-space grid (solver.sph.surface.open_space) keeps its buffers too.
+TEST(StepAllocations, NoneOnceWarmWithTheOpenSpaceTest) {
+  expect_none_once_warm("zhang-loaf-sph", {parse_override("solver.sph.surface.open_space=true")});
 }
 
 INSTANTIATE_TEST_SUITE_P(ShippedPreviews, StepAllocations,

@@ -95,6 +95,27 @@ void SphSolver::phase_surface() {
         },
         64);
   }
+  // With `open_space`, flags that face no open space go (docs/physics.md, "Surface particles"):
+  // a risen crumb holds voids where bubbles grew, and a particle beside one
+  // passes both tests above although no oven air reaches it. Every particle
+  // fills a ball of its own size on a grid of the spacing; the empty space
+  // that floods from the border is open; a flagged particle stays surface only
+  // if open space lies along its outward normal within its own size and two
+  // spacings (where the space beyond a flat face's outer layer begins).
+  if (s.surface_open_space && (s.surface_method == SurfaceMethod::colour || steps_ % s.surface_every == 0)) {
+    fill_radius_.resize(n);
+    parallel_for(
+        n, [&](std::size_t i) { fill_radius_[i] = std::cbrt(m_[i] / rho_[i]); }, 4096);
+    open_space_.build(x_, fill_radius_, s.spacing);
+    parallel_for(
+        n,
+        [&](std::size_t i) {
+          const Real g = colour_grad_[i].norm();
+          if (!surface_[i] || !(g > 0)) return;  // a lone particle has no normal and stays surface
+          if (!open_space_.open_along(x_[i], -colour_grad_[i] / g, fill_radius_[i] + 2 * s.spacing)) surface_[i] = 0;
+        },
+        4096);
+  }
   // Exchange areas from the surface itself (a departure from Eq 3.43's π r² for
   // every surface particle, which took in 21% too much on a lattice-aligned face
   // and 7–9% too little on a curved one): by the co-area formula Σ V |∇C| over
