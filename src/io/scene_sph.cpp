@@ -74,6 +74,7 @@ sph::Settings build_settings(const json& doc) {
   st.av_epsilon = sj["artificial_viscosity"]["epsilon"].get<double>();
   st.surface_threshold = sj["surface_threshold"].get<double>();
   st.heat_conduction = sj["heat_conduction"].get<bool>();
+  st.corrected_laplacian = sj["corrected_laplacian"].get<bool>();
   st.conduction_factor = sj["conduction_factor"].get<double>();
   st.viscous_factor = sj["viscous_factor"].get<double>();
   st.force_factor = sj["force_factor"].get<double>();

@@ -98,7 +98,7 @@ struct Settings {
   Real surface_colour_threshold = 0.6;  // |∇C| · h at or above which a particle is on the surface
   Real surface_hull_threshold = 0.5;    // hull boundary closer than this × spacing: on the surface
   int surface_every = 1;                // steps between surface detections
-  bool surface_open_space = false;      // keep flags only where open space lies along the outward normal
+  bool surface_open_space = true;       // keep flags only where open space lies along the outward normal
   ViscositySolver viscosity_solver = ViscositySolver::automatic;
   // Stress-form viscosity (implicit only): the force is the divergence of
   // 2μ dev D from corrected kernel gradients, so free surfaces carry the
@@ -110,6 +110,7 @@ struct Settings {
   int implicit_max_iterations = 500;
   Real cfl = 0.4;
   bool heat_conduction = true;
+  bool corrected_laplacian = true;  // pair exchange divided by the mean kernel moment (docs/physics.md)
   Real conduction_factor = 0.1;
   Real viscous_factor = 0.125;
   Real force_factor = 0.25;

@@ -124,6 +124,7 @@ class SphSolver final : public Solver {
   void solve_stress_viscosity(Real dt, const std::vector<Real>& diag);  // phase_viscosity, stress form
   Vec3 build_viscosity_rhs(Real dt);  // the implicit viscosity's M v*; returns its |b|² per component
   void phase_heat(Real dt);
+  void update_laplacian_moments();  // laplacian_moment_ from this step's neighbours
   void phase_browning(Real dt);
   // The profile from particle i to the face it turns to the oven (physics/heat.hpp).
   CrustFace crust_face(std::size_t i) const;
@@ -262,15 +263,16 @@ class SphSolver final : public Solver {
   std::vector<std::uint32_t> order_;
   // Per-step scratch, valid only within the phases that fill them (not in
   // the registry, so sorting does not move them).
-  std::vector<Vec3> x_prev_;             // position before the drift, for mesh collisions
-  std::vector<Vec3> dv_;                 // XSPH correction
-  std::vector<Real> dtemp_;              // temperature change of the heat phase
-  std::vector<Real> p_over_rho2_;        // P/ρ², per particle (pressure phase)
-  std::vector<Real> volume_;             // m/ρ, per particle (pressure phase)
-  std::vector<Vec3> colour_grad_;        // Σ V_j ∇W_ij (points into the fluid), surface phase
-  std::vector<Real> fill_radius_;        // (m/ρ)^(1/3), the ball each particle fills (surface phase)
-  OpenSpaceGrid open_space_;             // the space open to the outside (surface phase)
-  std::vector<Mat3> stress_rho2_;        // S/ρ², per particle (pressure phase)
+  std::vector<Vec3> x_prev_;            // position before the drift, for mesh collisions
+  std::vector<Vec3> dv_;                // XSPH correction
+  std::vector<Real> dtemp_;             // temperature change of the heat phase
+  std::vector<Real> p_over_rho2_;       // P/ρ², per particle (pressure phase)
+  std::vector<Real> volume_;            // m/ρ, per particle (pressure phase)
+  std::vector<Vec3> colour_grad_;       // Σ V_j ∇W_ij (points into the fluid), surface phase
+  std::vector<Real> laplacian_moment_;  // a_i = −(1/3) Σ V_j x_ij·∇W_ij ∈ [0.25, 1] (heat phase; 1: uncorrected)
+  std::vector<Real> fill_radius_;       // (m/ρ)^(1/3), the ball each particle fills (surface phase)
+  OpenSpaceGrid open_space_;            // the space open to the outside (surface phase)
+  std::vector<Mat3> stress_rho2_;       // S/ρ², per particle (pressure phase)
   std::vector<Mat3> artificial_stress_;  // R_i of Monaghan (2000), per particle (forces phase)
   // No-slip walls, per particle (forces phase, read by the viscosity phase):
   // Σ S(d) over the sticky walls within h, and Σ S(d) v_wall (wall_viscosity_).

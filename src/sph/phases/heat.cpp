@@ -2,6 +2,7 @@
 // browning (Zanoni et al. 1995), both on the bake clock.
 #include "sph/solver.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -10,20 +11,53 @@
 
 namespace bakesim::sph {
 
+namespace {
+// The smallest kernel moment the corrected Laplacian divides by (a fourfold rate at most).
+constexpr Real kMinLaplacianMoment = 0.25;
+}  // namespace
+
 // Eq 3.45–3.46: ρ c_p dT/dt = ∇·(k∇T). The kernel Laplacian of Eq 3.46
 // changes sign inside the support (heat could flow from cold to hot for close
 // pairs), so the Laplacian is taken in the Cleary–Monaghan form
-//   (∇·k∇T)_i = Σ_j V_j (k_i + k_j)(T_i − T_j) x_ij·∇W_ij / (r² + η²),
+//   (∇·k∇T)_i = Σ_j V_j (k_i + k_j)(T_i − T_j) x_ij·∇W_ij / (r² + η²) · 2/(a_i + a_j),
 // which is always diffusive and exchanges heat pairwise (energy is conserved).
+// a_i = −(1/3) Σ_j V_j x_ij·∇W_ij is the support's moment, 1 when it is full:
+// the sum is exact for a quadratic field only then, and risen crumb, whose
+// bubbles grew apart, holds a third of it (docs/physics.md, Heat conduction).
+// Dividing by the pair's mean moment (the scalar renormalisation of the CSPM,
+// Chen, Beraun & Carney 1999, kept symmetric) restores the rate.
 // Then Eq 3.42–3.43 at surface particles, taken at the particle's face:
 // m c_p dT/dt = h A (T_ext − T_face) (crust_face below, physics/heat.hpp) with
 // T_ext the touching collider's temperature, or the oven air's. Heat runs on
 // the bake clock: dt_bake = scale · dt.
+void SphSolver::update_laplacian_moments() {
+  const std::size_t n = x_.size();
+  laplacian_moment_.resize(n);
+  if (!setup_.settings.corrected_laplacian) {
+    std::fill(laplacian_moment_.begin(), laplacian_moment_.end(), Real(1));
+    return;
+  }
+  parallel_for(
+      n,
+      [&](std::size_t i) {
+        const std::uint32_t* nb = lists_.begin(i);
+        const float* r = lists_.distances(i);
+        const float* pd = pair_dwr_.data() + i * lists_.stride();
+        Real a = 0;
+        for (std::uint32_t k = 0; k < lists_.count(i); ++k)
+          a -= volume_[nb[k]] * Real(r[k]) * Real(r[k]) * Real(pd[k]);  // x_ij·∇W_ij = r² W'(r)/r
+        // Below a quarter (a particle almost alone) the sum says little: no more than fourfold.
+        laplacian_moment_[i] = std::clamp(a / 3, kMinLaplacianMoment, Real(1));
+      },
+      4096);
+}
+
 void SphSolver::phase_heat(Real dt) {
   ScopedPhase t(timers_, t_heat_);
   const Oven& oven = setup_.oven;
   const Real dt_bake = oven.bake_step(dt);
   const std::size_t n = x_.size();
+  if (setup_.settings.heat_conduction || moist_) update_laplacian_moments();  // the water phase's too
   if (setup_.settings.heat_conduction) {
     // Nothing flows in an isothermal state (a common case: water at room temperature).
     using Range = std::pair<Real, Real>;
@@ -60,6 +94,7 @@ void SphSolver::phase_heat(Real dt) {
                                   pw.drying_conductivity_change(mi.conductivity, (*moisture_)[i]);
             },
             4096);
+      const Real* moment = laplacian_moment_.data();
       parallel_for(n, [&](std::size_t i) {
         const Material& mi = setup_.materials[material_[i]];
         const Real ti = temp[i], ki = moist_ ? particle_k_[i] : mi.conductivity;
@@ -75,7 +110,7 @@ void SphSolver::phase_heat(Real dt) {
           const Real kj = moist_ ? particle_k_[j] : conductivity_[material_[j]];
           const Real hij = 0.5 * (hsup[i] + hsup[j]);
           const Real eta2 = adaptive_ ? 0.01 * hij * hij : eta2_fixed;
-          sum += pair_conduction(vol[j], ki, kj, ti, temp[j], Real(pd[k]), r, eta2);
+          sum += pair_conduction(vol[j], ki, kj, ti, temp[j], Real(pd[k]), r, eta2) * (2 / (moment[i] + moment[j]));
         }
         dtemp_[i] = setup_.bodies[body_[i]].hold_temperature ? 0.0 : dt_bake * sum / (rho_[i] * mi.specific_heat);
       });
