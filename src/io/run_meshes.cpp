@@ -126,6 +126,10 @@ surface::ColourSamples colour_samples(const ParticleSet& ps, const RunGeometry& 
   for (Real& v : samples.value) v = (v - lo) / (hi - lo);
   if (const auto bubble = attribute_values(ps, "bubble"))
     for (Real b : *bubble) samples.bubble.push_back(b != 0 ? 1 : 0);
+  // Browning is the surface's own colour: the SPH surface particles (exchange area > 0) show it.
+  if (settings.colour == "browning")
+    if (const auto area = attribute_values(ps, "surface_area"))
+      for (Real a : *area) samples.face.push_back(a > 0 ? 1 : 0);
   return samples;
 }
 

@@ -286,36 +286,58 @@ ColourField::ColourField(ColourSamples samples, Real support)
 
 ColourField::~ColourField() = default;
 
-Real ColourField::uv_at(const Vec3& x) const {
-  if (!index_) return 0.05;
-  const ColourSamples& s = samples_;
-  auto g = [&](std::size_t j) {
-    const Real offset = (!s.bubble.empty() && s.bubble[j]) ? 0.0 : 0.1;  // Eq 4.7's O
-    return offset + 0.8 * std::clamp(s.value[j], 0.0, 1.0) + 0.05;
-  };
+namespace {
+Real sample_g(const ColourSamples& s, std::size_t j) {
+  const Real offset = (!s.bubble.empty() && s.bubble[j]) ? 0.0 : 0.1;  // Eq 4.7's O
+  return offset + 0.8 * std::clamp(s.value[j], 0.0, 1.0) + 0.05;
+}
+}  // namespace
+
+std::optional<Real> ColourField::uv_within(const Vec3& x) const {
+  if (!index_) return std::nullopt;
   thread_local std::vector<std::pair<std::size_t, Real>> found;  // the search reuses its storage
   index_->tree.radiusSearch(x.data(), support_ * support_, found, nanoflann::SearchParams(32, 0, false));
   Real num = 0, den = 0;
   for (const auto& f : found) {
-    const Real w = s.volume[f.first] * spline(std::sqrt(f.second), support_);  // Eq 4.5
-    num += w * g(f.first);
+    const Real w = samples_.volume[f.first] * spline(std::sqrt(f.second), support_);  // Eq 4.5
+    num += w * sample_g(samples_, f.first);
     den += w;
   }
   if (den > 0) return num / den;
+  return std::nullopt;
+}
+
+Real ColourField::uv_at(const Vec3& x) const {
+  if (!index_) return 0.05;
+  if (const std::optional<Real> u = uv_within(x)) return *u;
   std::size_t nearest = 0;
   Real d2 = 0;
   index_->tree.knnSearch(x.data(), 1, &nearest, &d2);
-  return g(nearest);
+  return sample_g(samples_, nearest);
 }
 
 void assign_uv(SurfaceMesh& mesh, const ColourSamples& s, Real support) {
   mesh.uv.assign(mesh.vertices.size(), 0.05f);
   if (s.position.empty() || mesh.vertices.empty()) return;
   const ColourField field(s, support);
+  // The surface's own particles, where the colour is theirs (browning).
+  ColourSamples face;
+  for (std::size_t j = 0; j < s.face.size() && j < s.position.size(); ++j) {
+    if (!s.face[j]) continue;
+    face.position.push_back(s.position[j]);
+    face.volume.push_back(s.volume[j]);
+    face.value.push_back(s.value[j]);
+    if (!s.bubble.empty()) face.bubble.push_back(s.bubble[j]);
+  }
+  const ColourField face_field(std::move(face), support);
   parallel_blocks(
       mesh.vertices.size(),
       [&](std::size_t vb, std::size_t ve) {
-        for (std::size_t v = vb; v < ve; ++v) mesh.uv[v] = float(field.uv_at(mesh.vertices[v].cast<Real>()));
+        for (std::size_t v = vb; v < ve; ++v) {
+          const Vec3 x = mesh.vertices[v].cast<Real>();
+          const std::optional<Real> u = face_field.uv_within(x);
+          mesh.uv[v] = float(u ? *u : field.uv_at(x));
+        }
       },
       1024);
 }

@@ -19,6 +19,7 @@
 #include <memory>
 #include <cstdint>
 #include <string>
+#include <optional>
 #include <vector>
 
 #include "core/types.hpp"
@@ -99,6 +100,11 @@ struct ColourSamples {
   std::vector<Real> volume;          // m_j / ρ_j
   std::vector<Real> value;           // normalised to [0, 1]
   std::vector<std::uint8_t> bubble;  // 1 for bubble particles (may be empty)
+  // 1 for the particles that form the surface (SPH: exchange area > 0), when
+  // the colour is the surface's own (browning); may be empty. A vertex with
+  // such particles within the support takes its colour from them alone: the
+  // crust is one particle thick and the unbrowned crumb under it is not seen.
+  std::vector<std::uint8_t> face;
 };
 void assign_uv(SurfaceMesh& mesh, const ColourSamples& samples, Real support);
 
@@ -111,6 +117,8 @@ class ColourField {
   ColourField(const ColourField&) = delete;
   ColourField& operator=(const ColourField&) = delete;
   Real uv_at(const Vec3& x) const;
+  // The Shepard sum alone: none when no sample lies within the support.
+  std::optional<Real> uv_within(const Vec3& x) const;
 
  private:
   struct Index;

@@ -107,6 +107,39 @@ TEST(SurfaceMesh, ColouringFollowsTheParticlesAndTellsBubblesFromDough) {
   EXPECT_GT(int(pale[0]) + pale[1] + pale[2], int(brown[0]) + brown[1] + brown[2] + 200);
 }
 
+// The crust is what one sees: a ball whose outer particle layer is browned
+// (value 1, flagged as the surface) over a pale interior (0). Without the
+// flags every vertex mixes the crust with the crumb under it within the
+// support; with them (ColourSamples::face, what `bakesim mesh` and `render`
+// set for browning from the SPH surface particles) it shows the crust's colour.
+TEST(SurfaceMesh, BrowningShowsTheCrustParticlesNotTheCrumbUnderThem) {
+  const Real s = 0.004;
+  const SurfaceParticles p = ball(0.03, s, Vec3::Zero());
+  SurfaceMesh mesh = reconstruct_surface(p, SurfaceOptions{});
+  Real rmax = 0;
+  for (const Vec3& x : p.position) rmax = std::max(rmax, x.norm());
+  ColourSamples samples;
+  samples.position = p.position;
+  samples.volume.assign(p.position.size(), s * s * s);
+  for (const Vec3& x : p.position) {
+    const bool crust = x.norm() > rmax - 0.9 * s;
+    samples.value.push_back(crust ? 1.0 : 0.0);
+    samples.face.push_back(crust ? 1 : 0);
+  }
+  auto mean_uv = [&](const ColourSamples& c) {
+    assign_uv(mesh, c, 2 * s);
+    Real sum = 0;
+    for (float u : mesh.uv) sum += u;
+    return sum / Real(mesh.uv.size());
+  };
+  const Real with_flags = mean_uv(samples);
+  samples.face.clear();
+  const Real mixed = mean_uv(samples);
+  std::printf("mean vertex U: %.3f with the surface particles alone, %.3f mixed with the crumb\n", with_flags, mixed);
+  EXPECT_NEAR(with_flags, 0.95, 0.01);  // Eq 4.7: 0.1 + 0.8 · 1 + 0.05
+  EXPECT_LT(mixed, 0.93);               // measured 0.897: a fifth of the crust colour lost
+}
+
 // Issue 23: no lattice banding on flat faces. A box of lattice particles (20 ×
 // 12 × 16 spacings) meshed by the levelset method: on its front face, away from
 // the edges, the vertex normals' RMS angle from the face normal measures the
