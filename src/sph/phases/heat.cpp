@@ -16,20 +16,8 @@ namespace {
 constexpr Real kMinLaplacianMoment = 0.25;
 }  // namespace
 
-// Eq 3.45–3.46: ρ c_p dT/dt = ∇·(k∇T). The kernel Laplacian of Eq 3.46
-// changes sign inside the support (heat could flow from cold to hot for close
-// pairs), so the Laplacian is taken in the Cleary–Monaghan form
-//   (∇·k∇T)_i = Σ_j V_j (k_i + k_j)(T_i − T_j) x_ij·∇W_ij / (r² + η²) · 2/(a_i + a_j),
-// which is always diffusive and exchanges heat pairwise (energy is conserved).
-// a_i = −(1/3) Σ_j V_j x_ij·∇W_ij is the support's moment, 1 when it is full:
-// the sum is exact for a quadratic field only then, and risen crumb, whose
-// bubbles grew apart, holds a third of it (docs/physics.md, Heat conduction).
-// Dividing by the pair's mean moment (the scalar renormalisation of the CSPM,
-// Chen, Beraun & Carney 1999, kept symmetric) restores the rate.
-// Then Eq 3.42–3.43 at surface particles, taken at the particle's face:
-// m c_p dT/dt = h A (T_ext − T_face) (crust_face below, physics/heat.hpp) with
-// T_ext the touching collider's temperature, or the oven air's. Heat runs on
-// the bake clock: dt_bake = scale · dt.
+// The support's moment a_i = −(1/3) Σ_j V_j x_ij·∇W_ij (1 when full), what the
+// corrected Laplacian below divides by; all 1 when the scene turns it off.
 void SphSolver::update_laplacian_moments() {
   const std::size_t n = x_.size();
   laplacian_moment_.resize(n);
@@ -52,6 +40,20 @@ void SphSolver::update_laplacian_moments() {
       4096);
 }
 
+// Eq 3.45–3.46: ρ c_p dT/dt = ∇·(k∇T). The kernel Laplacian of Eq 3.46
+// changes sign inside the support (heat could flow from cold to hot for close
+// pairs), so the Laplacian is taken in the Cleary–Monaghan form
+//   (∇·k∇T)_i = Σ_j V_j (k_i + k_j)(T_i − T_j) x_ij·∇W_ij / (r² + η²) · 2/(a_i + a_j),
+// which is always diffusive and exchanges heat pairwise (energy is conserved).
+// a_i = −(1/3) Σ_j V_j x_ij·∇W_ij is the support's moment, 1 when it is full:
+// the sum is exact for a quadratic field only then, and risen crumb, whose
+// bubbles grew apart, holds a third of it (docs/physics.md, Heat conduction).
+// Dividing by the pair's mean moment (the scalar renormalisation of the CSPM,
+// Chen, Beraun & Carney 1999, kept symmetric) restores the rate.
+// Then Eq 3.42–3.43 at surface particles, taken at the particle's face:
+// m c_p dT/dt = h A (T_ext − T_face) (crust_face below, physics/heat.hpp) with
+// T_ext the touching collider's temperature, or the oven air's. Heat runs on
+// the bake clock: dt_bake = scale · dt.
 void SphSolver::phase_heat(Real dt) {
   ScopedPhase t(timers_, t_heat_);
   const Oven& oven = setup_.oven;
