@@ -137,7 +137,7 @@ TEST(BreadRoll, RisesStaysInItsTinAndBakesThrough) {
 // through the dried crust's 0.1 W/(m K)), the crumb deeper than two spacings
 // holds water, stays at or below the boiling point and does not brown at all
 // (moist dough browns only past it), and the core ends at or below 100 °C.
-TEST(BreadRoll, BakesABrownCrustOverAPaleCrumb) {
+TEST(BreadRoll, CoarseWholeBakeBrownsItsTopAndNotItsCrumb) {
   Scene scene = load_scene(std::string(BAKESIM_SOURCE_DIR) + "/scenes/bread-roll.json",
                            {parse_override("solver.sph.spacing=0.0045")});
   sph::SphSolver solver(scene.sph);
