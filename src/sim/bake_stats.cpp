@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "core/parallel.hpp"
+#include "sim/stats.hpp"
 
 namespace bakesim {
 
@@ -97,15 +98,7 @@ std::vector<BodyBake> BakeStatistics::compute(const ParticleSet& ps) const {
   const std::vector<Real>* volume0 = co2_ ? &ps.scalar("initial_volume") : nullptr;
   const std::vector<Real>* moisture = moisture_ ? &ps.scalar("moisture") : nullptr;
   const std::vector<Real>* mass = moisture_ ? &ps.scalar("mass") : nullptr;
-  // A particle's volume: m/ρ (SPH), J V₀ (MPM).
-  const std::vector<Real>* density = ps.has("density") ? &ps.scalar("density") : nullptr;
-  const std::vector<Real>* ratio = ps.has("J") ? &ps.scalar("J") : nullptr;
-  const std::vector<Real>* initial_volume = ps.has("initial_volume") ? &ps.scalar("initial_volume") : nullptr;
-  const auto volume = [&](std::size_t i) -> Real {
-    if (density && (*density)[i] > 0) return (*mass)[i] / (*density)[i];
-    if (ratio && initial_volume) return (*ratio)[i] * (*initial_volume)[i];
-    return 0;
-  };
+  const ParticleVolume volume(ps);
   const std::vector<Acc> acc = deterministic_reduce(
       ps.size(), std::vector<Acc>(nb),
       [&](std::size_t b, std::size_t e) {
@@ -120,12 +113,10 @@ std::vector<BodyBake> BakeStatistics::compute(const ParticleSet& ps) const {
           if (water) s.water += (*water)[i];
           if (co2) s.co2 += (*co2)[i] * (*volume0)[i];
           if (moisture) {
-            const Real x = (*moisture)[i], x0 = initial_moisture_[body[i]];
-            if (x0 > 0 && t[i] >= kCrustFromCelsius)
-              s.dried_volume += volume(i) * std::clamp(1 - x / x0, Real(0), Real(1));
+            const Real x = (*moisture)[i], x0 = initial_moisture_[body[i]], v = volume(i);
+            if (x0 > 0 && t[i] >= kCrustFromCelsius) s.dried_volume += v * std::clamp(1 - x / x0, Real(0), Real(1));
             // The particle's outer share: its exchange area over its cross-section (MPM gives interior
             // points specks of area from the noise of the grid's boundary field).
-            const Real v = volume(i);
             const Real outer = area && v > 0 ? std::min(Real(1), (*area)[i] / std::cbrt(v * v)) : Real(0);
             s.outer_mass += outer * (*mass)[i];
             s.outer_moisture += outer * (*mass)[i] * x;

@@ -64,14 +64,19 @@ FrameStats compute_frame_stats(const ParticleSet& ps) {
   return out;
 }
 
+ParticleVolume::ParticleVolume(const ParticleSet& ps) {
+  if (ps.has("density") && ps.has("mass")) {
+    numerator_ = &ps.scalar("mass"), second_ = &ps.scalar("density"), divide_ = true;
+  } else if (ps.has("J") && ps.has("initial_volume")) {
+    numerator_ = &ps.scalar("J"), second_ = &ps.scalar("initial_volume"), divide_ = false;
+  }
+}
+
 std::vector<BodyStats> compute_body_stats(const ParticleSet& ps, std::size_t bodies, const Vec3& up) {
   using Acc = std::vector<BodyStats>;
-  // SPH: V = m / ρ; MPM: V = J V⁰.
-  const bool sph = ps.has("density"), mpm = ps.has("J") && ps.has("initial_volume");
-  if (!ps.has("body_id") || !(sph || mpm) || bodies == 0) return Acc(bodies);
+  const ParticleVolume volume(ps);
+  if (!ps.has("body_id") || !volume.available() || bodies == 0) return Acc(bodies);
   const auto& x = ps.vector("position");
-  const auto& num = ps.scalar(sph ? "mass" : "J");
-  const auto& den = ps.scalar(sph ? "density" : "initial_volume");
   const auto& body = ps.integer("body_id");
   return deterministic_reduce(
       ps.size(), Acc(bodies),
@@ -79,7 +84,7 @@ std::vector<BodyStats> compute_body_stats(const ParticleSet& ps, std::size_t bod
         Acc a(bodies);
         for (std::size_t i = b; i < e; ++i) {
           BodyStats& s = a[static_cast<std::size_t>(body[i])];
-          s.volume += sph ? num[i] / den[i] : num[i] * den[i];
+          s.volume += volume(i);
           const Real u = x[i].dot(up);
           s.low = std::min(s.low, u);
           s.high = std::max(s.high, u);

@@ -18,6 +18,24 @@ struct FrameStats {
 
 FrameStats compute_frame_stats(const ParticleSet& particles);
 
+// Each particle's volume, m³: m/ρ (SPH, attribute density), J V⁰ (MPM,
+// attributes J and initial_volume); 0 where the set has neither.
+class ParticleVolume {
+ public:
+  explicit ParticleVolume(const ParticleSet& ps);
+  bool available() const { return numerator_ != nullptr; }
+  Real operator()(std::size_t i) const {
+    if (!numerator_) return 0;
+    if (!divide_) return (*numerator_)[i] * (*second_)[i];
+    return (*second_)[i] > 0 ? (*numerator_)[i] / (*second_)[i] : 0;
+  }
+
+ private:
+  const std::vector<Real>* numerator_ = nullptr;  // m (SPH) or J (MPM)
+  const std::vector<Real>* second_ = nullptr;     // ρ (SPH) or V⁰ (MPM)
+  bool divide_ = false;
+};
+
 // Per body (attribute body_id): volume Σ m/ρ (m³) and extent along `up` (m).
 struct BodyStats {
   Real volume = 0;

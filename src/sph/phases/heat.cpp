@@ -179,17 +179,13 @@ void SphSolver::phase_heat(Real dt) {
 CrustFace SphSolver::crust_face(std::size_t i) const {
   const Material& mi = setup_.materials[material_[i]];
   const PoreWater& pw = mi.moisture;
-  const Real half_width = 0.5 * std::cbrt(volume_[i]);
-  if (!(moist_ && pw.active())) {  // no water: the half-cell profile with the material's k
-    CrustFace dry;
-    dry.face_distance = half_width;
-    dry.crust_conductivity = pw.crust_conductivity(mi.conductivity);
-    dry.moist_conductivity = mi.conductivity;
-    return dry;
+  // Without water (none carried, or a dry material) the profile is the dry half-cell with the material's k.
+  Real x = 0, water = 0, heat_pipe = 0;
+  if (moist_ && pw.active()) {
+    x = (*moisture_)[i], water = (*water_)[i];
+    heat_pipe = pw.cell_conductivity(temperature_[i], x, pw.expanded_gas_fraction(mi.rest_density / rho_[i]));
   }
-  const Real x = (*moisture_)[i];
-  const Real heat_pipe = pw.cell_conductivity(temperature_[i], x, pw.expanded_gas_fraction(mi.rest_density / rho_[i]));
-  return pw.crust_face(half_width, x, (*water_)[i], mi.conductivity, mi.conductivity + heat_pipe);
+  return pw.crust_face(0.5 * std::cbrt(volume_[i]), x, water, mi.conductivity, mi.conductivity + heat_pipe);
 }
 
 // Crust colour (Zanoni et al. 1995, physics/browning.hpp) on the bake clock.
