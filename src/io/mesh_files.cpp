@@ -88,7 +88,7 @@ Image gradient_texture(surface::Palette palette, int size) {
   for (int y = 0; y < size; ++y)
     for (int x = 0; x < size; ++x) {
       const double u = (x + 0.5) / size, v = 1.0 - (y + 0.5) / size;  // image rows run top-down, v bottom-up
-      img.set(x, y, surface::palette_colour(palette, 0.5 * (u + v)));
+      img.set(x, y, surface::palette_colour(palette, surface::value_of_colour_coordinate(0.5 * (u + v))));
     }
   return img;
 }

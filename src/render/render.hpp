@@ -57,7 +57,6 @@ struct ColourBar {
   std::string label;
   Real low = 0, high = 1;
   surface::Palette palette = surface::Palette::heat;
-  Real palette_offset = 0, palette_scale = 1;  // value fraction f shows palette(offset + scale f)
 };
 
 struct ParticleView {

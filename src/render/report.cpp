@@ -312,7 +312,7 @@ std::optional<CrustColour> crust_colour(const fs::path& ply, const json& scene, 
     }
     if (!(area > 0)) return std::nullopt;
     CrustColour cc;
-    cc.browning = weighted / area;
+    cc.browning = surface::value_of_colour_coordinate(weighted / area);
     const auto rgb = surface::palette_colour(surface::Palette::baking, cc.browning);
     cc.hex = fmt::format("#{:02x}{:02x}{:02x}", rgb[0], rgb[1], rgb[2]);
     return cc;

@@ -144,14 +144,13 @@ RenderRunResult render_run(const fs::path& run_dir, const RenderRunOptions& o) {
       run.scene.contains("environment") ? run.scene["environment"].value("bake_time_scale", 1.0) : 1.0;
   // The cut's axis names the pictures (parse_cut_plane accepted AXIS or AXIS=VALUE).
   const std::string stem = o.mode + "-" + colour + (settings.cut ? "-cut-" + o.cut.substr(0, 1) : "");
-  // The colour bar of a frame's picture (in mesh mode the dough shows palette(0.15 + 0.8 value), Eq 4.7).
+  // The colour bar of a frame's picture (a mesh shows the value in the colour the particles show it).
   const auto colour_bar = [&](const ParticleSet& ps) {
     const auto range = colour_range(ps, colour, colour_range_given);
     ColourBar bar;
     bar.label = colour;
     bar.low = range.first, bar.high = range.second;
     bar.palette = colour_palette(colour);
-    if (o.mode == "mesh") bar.palette_offset = 0.15, bar.palette_scale = 0.8;
     return bar;
   };
   // One frame's picture: with its colour bar and full caption, or (a strip's tile) with the bake time only.
@@ -172,7 +171,7 @@ RenderRunResult render_run(const fs::path& run_dir, const RenderRunOptions& o) {
         // The cut face: the same colouring as the surface, at every point of the plane inside the body.
         field.emplace(colour_samples(ps, geometry, mesh_opts), kColourSupport * geometry.spacing);
         frame_settings.cut_colour = [&, palette = bar.palette](const Vec3& x) {
-          return surface::palette_colour(palette, field->uv_at(x));
+          return surface::palette_colour(palette, surface::value_of_colour_coordinate(field->uv_at(x)));
         };
       }
       return render_mesh(mesh, frame_settings, text, tile ? nullptr : &bar, caption, props_at(f));

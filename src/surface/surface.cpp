@@ -18,6 +18,7 @@
 
 #include "core/errors.hpp"
 #include "core/parallel.hpp"
+#include "surface/crust_colour.hpp"
 
 namespace bakesim::surface {
 
@@ -287,11 +288,16 @@ ColourField::ColourField(ColourSamples samples, Real support)
 ColourField::~ColourField() = default;
 
 namespace {
+constexpr Real kDoughOffset = 0.1, kValueScale = 0.8, kBaseCoordinate = 0.05;  // Eq 4.7's O, the 0.8 and 0.05
 Real sample_g(const ColourSamples& s, std::size_t j) {
-  const Real offset = (!s.bubble.empty() && s.bubble[j]) ? 0.0 : 0.1;  // Eq 4.7's O
-  return offset + 0.8 * std::clamp(s.value[j], 0.0, 1.0) + 0.05;
+  const Real offset = (!s.bubble.empty() && s.bubble[j]) ? 0.0 : kDoughOffset;
+  return offset + kValueScale * std::clamp(s.value[j], 0.0, 1.0) + kBaseCoordinate;
 }
 }  // namespace
+
+Real value_of_colour_coordinate(Real u) {
+  return std::clamp((u - kDoughOffset - kBaseCoordinate) / kValueScale, Real(0), Real(1));
+}
 
 std::optional<Real> ColourField::uv_within(const Vec3& x) const {
   if (!index_) return std::nullopt;
@@ -343,33 +349,33 @@ void assign_uv(SurfaceMesh& mesh, const ColourSamples& s, Real support) {
 }
 
 std::array<std::uint8_t, 3> palette_colour(Palette p, Real u) {
+  u = std::clamp(u, 0.0, 1.0);
+  if (p == Palette::baking) {
+    // The measured crust colour at browning index u (crust_colour.hpp).
+    const auto rgb = lab_to_srgb(crust_lab_of_browning(u));
+    return {std::uint8_t(std::lround(255.0 * rgb[0])), std::uint8_t(std::lround(255.0 * rgb[1])),
+            std::uint8_t(std::lround(255.0 * rgb[2]))};
+  }
   struct Stop {
     Real at, r, g, b;
   };
-  // baking: raw dough cream → golden → brown → burnt; heat: blue → red.
-  static const Stop baking[] = {{0.0, 0.96, 0.91, 0.78},
-                                {0.2, 0.93, 0.84, 0.62},
-                                {0.45, 0.85, 0.62, 0.30},
-                                {0.7, 0.62, 0.36, 0.13},
-                                {1.0, 0.25, 0.12, 0.05}};
+  // heat: blue → red.
   static const Stop heat[] = {{0.0, 0.19, 0.25, 0.68},
                               {0.25, 0.27, 0.62, 0.85},
                               {0.5, 0.95, 0.93, 0.75},
                               {0.75, 0.97, 0.55, 0.25},
                               {1.0, 0.70, 0.05, 0.10}};
-  const Stop* stops = p == Palette::baking ? baking : heat;
-  u = std::clamp(u, 0.0, 1.0);
   int k = 0;
-  while (k < 3 && u > stops[k + 1].at) ++k;
-  const Real t = (u - stops[k].at) / (stops[k + 1].at - stops[k].at);
+  while (k < 3 && u > heat[k + 1].at) ++k;
+  const Real t = (u - heat[k].at) / (heat[k + 1].at - heat[k].at);
   auto mix = [&](Real a, Real b) { return std::uint8_t(std::lround(255.0 * (a + (b - a) * t))); };
-  return {mix(stops[k].r, stops[k + 1].r), mix(stops[k].g, stops[k + 1].g), mix(stops[k].b, stops[k + 1].b)};
+  return {mix(heat[k].r, heat[k + 1].r), mix(heat[k].g, heat[k + 1].g), mix(heat[k].b, heat[k + 1].b)};
 }
 
 void colour_vertices(SurfaceMesh& mesh, Palette p) {
   mesh.colours.resize(mesh.vertices.size());
   for (std::size_t v = 0; v < mesh.vertices.size(); ++v)
-    mesh.colours[v] = palette_colour(p, v < mesh.uv.size() ? mesh.uv[v] : 0.0);
+    mesh.colours[v] = palette_colour(p, value_of_colour_coordinate(v < mesh.uv.size() ? mesh.uv[v] : 0.0));
 }
 
 // ---- checks -----------------------------------------------------------------

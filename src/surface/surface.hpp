@@ -127,9 +127,15 @@ class ColourField {
   std::unique_ptr<Index> index_;
 };
 
-// Colour maps from U ∈ [0, 1] to sRGB.
+// Colour maps from a value fraction ∈ [0, 1] to sRGB: baking is the measured
+// crust colour at browning index B = u (crust_colour.hpp), heat blue → red.
 enum class Palette { baking, heat };
 std::array<std::uint8_t, 3> palette_colour(Palette p, Real u);
+// The value fraction a colouring coordinate U (Eq 4.7, G = O + 0.8 v + 0.05)
+// stands for, read as dough's (O = 0.1): v = (U − 0.15) / 0.8 in [0, 1], so a
+// mesh shows a value in the colour the particles and the colour bar show it;
+// bubble particles' O = 0 still draws them an eighth of the scale paler.
+Real value_of_colour_coordinate(Real u);
 void colour_vertices(SurfaceMesh& mesh, Palette p);  // colours from uv
 
 // Checks used by tests and by `bakesim mesh` to report on what it wrote.

@@ -102,8 +102,9 @@ TEST(SurfaceMesh, ColouringFollowsTheParticlesAndTellsBubblesFromDough) {
   EXPECT_NEAR(hot_dough / nh, 0.95, 0.02);
   EXPECT_NEAR(cold_dough / nc, 0.15, 0.02);
   EXPECT_NEAR(hot_bubble / nb, 0.85, 0.02);
-  // Browner = darker in the baking palette.
-  const auto pale = palette_colour(Palette::baking, 0.15), brown = palette_colour(Palette::baking, 0.95);
+  // Browner = darker in the baking palette (the colours colour_vertices gives these U).
+  const auto pale = palette_colour(Palette::baking, value_of_colour_coordinate(cold_dough / nc)),
+             brown = palette_colour(Palette::baking, value_of_colour_coordinate(hot_dough / nh));
   EXPECT_GT(int(pale[0]) + pale[1] + pale[2], int(brown[0]) + brown[1] + brown[2] + 200);
 }
 

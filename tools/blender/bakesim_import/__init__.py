@@ -41,13 +41,20 @@ bl_info = {
 
 SEQUENCE_KEY = "bakesim_sequence"  # object property: JSON {blender frame: mesh name}
 
-# The baking palette of src/surface/surface.cpp (palette_colour), linearised for Blender.
-BAKING_STOPS = [(0.0, (0.96, 0.91, 0.78)), (0.2, (0.93, 0.84, 0.62)), (0.45, (0.85, 0.62, 0.30)),
-                (0.7, (0.62, 0.36, 0.13)), (1.0, (0.25, 0.12, 0.05))]
+# The baking palette of src/surface/surface.cpp (palette_colour): sRGB of the
+# measured crust colour (src/surface/crust_colour.hpp) at browning 0, 0.1, ..., 1,
+# placed at the mesh's U of dough at that browning (U = 0.15 + 0.8 B, Eq 4.7).
+# Written out here because Blender cannot call the library; the unit test
+# CrustColour.TheBlenderAddOnRampIsTheLibrarysPalette keeps the two equal.
+BAKING_STOPS = [(0.15, (0.827, 0.774, 0.647)), (0.23, (0.784, 0.719, 0.585)), (0.31, (0.741, 0.665, 0.525)),
+                (0.39, (0.698, 0.611, 0.466)), (0.47, (0.656, 0.557, 0.411)), (0.55, (0.615, 0.503, 0.358)),
+                (0.63, (0.573, 0.451, 0.305)), (0.71, (0.531, 0.400, 0.254)), (0.79, (0.489, 0.349, 0.204)),
+                (0.87, (0.447, 0.300, 0.155)), (0.95, (0.404, 0.252, 0.107))]
 
 
 def _linear(c):
-    return tuple(v ** 2.2 for v in c) + (1.0,)
+    """sRGB components to the linear RGBA Blender's colour ramp holds (IEC 61966-2-1)."""
+    return tuple(v / 12.92 if v <= 0.04045 else ((v + 0.055) / 1.055) ** 2.4 for v in c) + (1.0,)
 
 
 def _import_ply(path):
