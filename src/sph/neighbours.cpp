@@ -10,6 +10,7 @@
 
 #include <fmt/format.h>
 
+#include "core/buffers.hpp"
 #include "core/errors.hpp"
 #include "core/parallel.hpp"
 
@@ -90,8 +91,8 @@ template <class Query>
 void NeighbourSearch::fill(std::size_t n, NeighbourLists& lists, Query&& query) {
   lists.count_.assign(n, 0);
   for (;;) {
-    lists.ids_.resize(n * lists.stride_);
-    lists.dist_.resize(n * lists.stride_);
+    resize_with_headroom(lists.ids_, n * lists.stride_);
+    resize_with_headroom(lists.dist_, n * lists.stride_);
     std::atomic<std::size_t> overflow{0};
     const std::size_t stride = lists.stride_;
     parallel_blocks(n, [&](std::size_t b, std::size_t e) {
@@ -239,8 +240,8 @@ void NeighbourSearch::keep(const NeighbourLists& candidates, const std::vector<V
   const std::size_t stride = candidates.stride_;
   lists.stride_ = stride;
   lists.count_.resize(n);
-  lists.ids_.resize(n * stride);
-  lists.dist_.resize(n * stride);
+  resize_with_headroom(lists.ids_, n * stride);
+  resize_with_headroom(lists.dist_, n * stride);
   const bool periodic = periodicity_.any();
   parallel_blocks(n, [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i < e; ++i) {

@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "core/buffers.hpp"
 #include "core/parallel.hpp"
 
 namespace bakesim::sph {
@@ -74,8 +75,8 @@ void SphSolver::phase_density() {
   const Vec3* x = x_.data();
   const Real* m = m_.data();
   const std::size_t stride = lists_.stride();
-  pair_w_.resize(x_.size() * stride);
-  pair_dwr_.resize(x_.size() * stride);
+  resize_with_headroom(pair_w_, x_.size() * stride);
+  resize_with_headroom(pair_dwr_, x_.size() * stride);
   parallel_for(x_.size(), [&](std::size_t i) {
     Real rho = m[i] * w0;
     const std::uint32_t* nb = lists_.begin(i);

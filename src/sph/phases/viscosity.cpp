@@ -29,6 +29,7 @@
 #include <Eigen/LU>
 #include <cmath>
 
+#include "core/buffers.hpp"
 #include "core/errors.hpp"
 #include "core/parallel.hpp"
 #include "core/pcg.hpp"
@@ -43,7 +44,7 @@ void SphSolver::phase_viscosity(Real dt) {
   const std::size_t n = x_.size();
   const std::size_t stride = lists_.stride();
   const Real visc_c = visc_lap_.coefficient();
-  pair_visc_.resize(n * stride);
+  resize_with_headroom(pair_visc_, n * stride);
   std::vector<Real>& diag = dtemp_;  // free until the heat phase
   // Weights dt·w_ij and the preconditioner diagonal m_i + dt Σ_j w_ij.
   parallel_for(n, [&](std::size_t i) {
@@ -116,7 +117,7 @@ void SphSolver::solve_stress_viscosity(Real dt, const std::vector<Real>& diag) {
   const std::size_t stride = lists_.stride();
   correction_.resize(n);
   stress_times_correction_.resize(n);
-  pair_volume_gradient_.resize(n * stride);
+  resize_with_headroom(pair_volume_gradient_, n * stride);
   // V_j ∇_i W_ij per pair, once per solve (both passes of every iteration read
   // it); C_i = M_i^{−T}, and where the support holds too little to invert M (a
   // particle nearly alone), the uncorrected gradient.
