@@ -101,7 +101,8 @@ SphSolver::SphSolver(Setup setup)
       id_(particles_.add_int("id")),
       ncount_(particles_.add_int("neighbours")),
       anchor_(particles_.add_vector("neighbour_anchor", "m", false)),
-      anchor_support_(particles_.add_scalar("neighbour_anchor_support", "m", false)) {
+      anchor_support_(particles_.add_scalar("neighbour_anchor_support", "m", false)),
+      fill_radius_(particles_.add_scalar("open_space_radius", "m", false)) {
   const Settings& s = setup_.settings;
   if (setup_.materials.empty()) throw InputError("materials", "no materials defined");
   for (const Material& m : setup_.materials) {
@@ -552,6 +553,7 @@ void SphSolver::restore_state(const std::vector<std::pair<std::string, double>>&
   // had them.
   candidates_valid_ = false;
   anchors_valid_ = true;
+  open_space_built_ = false;  // rebuilt from the restored anchors and their radii
 }
 
 }  // namespace bakesim::sph

@@ -191,6 +191,7 @@ class SphSolver final : public Solver {
   Real skin_ = 0;                  // m
   bool candidates_valid_ = false;  // false at the start and after a restore
   bool anchors_valid_ = false;     // false at the start: the first step searches
+  bool anchors_moved_ = false;     // this step searched: new anchors (the open-space grid follows them)
   long searches_ = 0;
   std::vector<Collider> walls_;        // analytic colliders incl. the domain box
   std::vector<Collider> meshes_;       // mesh colliders
@@ -260,6 +261,10 @@ class SphSolver final : public Solver {
   // exported) so that a checkpoint resumes with the same lists and order.
   std::vector<Vec3>& anchor_;
   std::vector<Real>& anchor_support_;
+  // (m/ρ)^(1/3) at the last search, the ball each particle fills in the
+  // open-space grid built on the anchors then (surface phase); in the registry
+  // so that a resumed run rebuilds the same grid.
+  std::vector<Real>& fill_radius_;
   std::vector<std::uint32_t> order_;
   // Per-step scratch, valid only within the phases that fill them (not in
   // the registry, so sorting does not move them).
@@ -270,8 +275,8 @@ class SphSolver final : public Solver {
   std::vector<Real> volume_;            // m/ρ, per particle (pressure phase)
   std::vector<Vec3> colour_grad_;       // Σ V_j ∇W_ij (points into the fluid), surface phase
   std::vector<Real> laplacian_moment_;  // a_i = −(1/3) Σ V_j x_ij·∇W_ij ∈ [0.25, 1] (heat phase; 1: uncorrected)
-  std::vector<Real> fill_radius_;       // (m/ρ)^(1/3), the ball each particle fills (surface phase)
   OpenSpaceGrid open_space_;            // the space open to the outside (surface phase)
+  bool open_space_built_ = false;       // open_space_ holds the anchors' grid (false after a restore)
   std::vector<Mat3> stress_rho2_;       // S/ρ², per particle (pressure phase)
   std::vector<Mat3> artificial_stress_;  // R_i of Monaghan (2000), per particle (forces phase)
   // No-slip walls, per particle (forces phase, read by the viscosity phase):

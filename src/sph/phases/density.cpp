@@ -16,6 +16,7 @@ void SphSolver::phase_neighbours() {
   // back from the anchors (already in cell order: the sort keeps the order).
   // Without a skin the search gives the lists themselves, every step.
   const bool search = skin_ <= 0 || !anchors_valid_ || moved_past_skin();
+  anchors_moved_ = search;
   if (search || !candidates_valid_) {
     {
       ScopedPhase t(timers_, t_sort_);

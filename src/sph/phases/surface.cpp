@@ -101,12 +101,18 @@ void SphSolver::phase_surface() {
   // fills a ball of its own size on a grid of the spacing; the empty space
   // that floods from the border is open; a flagged particle stays surface only
   // if open space lies along its outward normal within its own size and two
-  // spacings (where the space beyond a flat face's outer layer begins).
+  // spacings (where the space beyond a flat face's outer layer begins). The
+  // grid is built on the neighbour search's anchors, again only when it
+  // searches: the particles have moved less than half the Verlet skin since
+  // (0.1 h by default), a fraction of the grid's cell.
+  if (s.surface_open_space && (anchors_moved_ || !open_space_built_)) {
+    if (anchors_moved_)
+      parallel_for(
+          n, [&](std::size_t i) { fill_radius_[i] = std::cbrt(m_[i] / rho_[i]); }, 4096);
+    open_space_.build(anchor_, fill_radius_, s.spacing);
+    open_space_built_ = true;
+  }
   if (s.surface_open_space && (s.surface_method == SurfaceMethod::colour || steps_ % s.surface_every == 0)) {
-    fill_radius_.resize(n);
-    parallel_for(
-        n, [&](std::size_t i) { fill_radius_[i] = std::cbrt(m_[i] / rho_[i]); }, 4096);
-    open_space_.build(x_, fill_radius_, s.spacing);
     parallel_for(
         n,
         [&](std::size_t i) {
