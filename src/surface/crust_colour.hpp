@@ -12,7 +12,6 @@
 // and is straight in L*a*b* between them. Its end lies 58 from the dough, beyond
 // the burnt ΔE∞ = 52, so B ∈ [0, 1] stays on it.
 #include <array>
-#include <cstdint>
 
 #include "core/types.hpp"
 
