@@ -125,6 +125,10 @@ class SphSolver final : public Solver {
   Vec3 build_viscosity_rhs(Real dt);  // the implicit viscosity's M v*; returns its |b|² per component
   void phase_heat(Real dt);
   void update_laplacian_moments();  // laplacian_moment_ from this step's neighbours
+  // The corrected Laplacian's factor for pair (i, j), 2/(a_i + a_j) (heat and water phases).
+  Real laplacian_correction(std::size_t i, std::size_t j) const {
+    return 2 / (laplacian_moment_[i] + laplacian_moment_[j]);
+  }
   void phase_browning(Real dt);
   // The profile from particle i to the face it turns to the oven (physics/heat.hpp).
   CrustFace crust_face(std::size_t i) const;

@@ -96,7 +96,6 @@ void SphSolver::phase_heat(Real dt) {
                                   pw.drying_conductivity_change(mi.conductivity, (*moisture_)[i]);
             },
             4096);
-      const Real* moment = laplacian_moment_.data();
       parallel_for(n, [&](std::size_t i) {
         const Material& mi = setup_.materials[material_[i]];
         const Real ti = temp[i], ki = moist_ ? particle_k_[i] : mi.conductivity;
@@ -112,7 +111,7 @@ void SphSolver::phase_heat(Real dt) {
           const Real kj = moist_ ? particle_k_[j] : conductivity_[material_[j]];
           const Real hij = 0.5 * (hsup[i] + hsup[j]);
           const Real eta2 = adaptive_ ? 0.01 * hij * hij : eta2_fixed;
-          sum += pair_conduction(vol[j], ki, kj, ti, temp[j], Real(pd[k]), r, eta2) * (2 / (moment[i] + moment[j]));
+          sum += pair_conduction(vol[j], ki, kj, ti, temp[j], Real(pd[k]), r, eta2) * laplacian_correction(i, j);
         }
         dtemp_[i] = setup_.bodies[body_[i]].hold_temperature ? 0.0 : dt_bake * sum / (rho_[i] * mi.specific_heat);
       });

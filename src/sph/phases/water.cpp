@@ -62,8 +62,7 @@ void SphSolver::phase_water(Real dt) {
       const Real hij = 0.5 * (smoothing_[i] + smoothing_[j]);
       const Real eta2 = adaptive_ ? 0.01 * hij * hij : eta2_fixed;
       // The heat phase's corrected Laplacian (its moments, this step's positions).
-      const Real pair =
-          volume_[j] * Real(pd[k]) * r * r / (r * r + eta2) * (2 / (laplacian_moment_[i] + laplacian_moment_[j]));
+      const Real pair = volume_[j] * Real(pd[k]) * r * r / (r * r + eta2) * laplacian_correction(i, j);
       vapour_sum += pair * (dv_i + dv_j) * (vapour[i] - vapour[j]);
       liquid_sum += pair * (dl_i + dl_j) * (ci - water[j] / volume_[j]);
     }
