@@ -8,13 +8,6 @@
 
 namespace bakesim {
 
-namespace {
-template <class T>
-void put(std::string& out, T v) {
-  put_bytes(out, v);
-}
-}  // namespace
-
 std::string encode_mesh_ply(const surface::SurfaceMesh& m) {
   const bool colours = m.colours.size() == m.vertices.size();
   const bool uv = m.uv.size() == m.vertices.size();
@@ -27,16 +20,16 @@ std::string encode_mesh_ply(const surface::SurfaceMesh& m) {
   if (uv) out += "property float s\nproperty float t\n";
   out += fmt::format("element face {}\nproperty list uchar int vertex_indices\nend_header\n", m.triangles.size());
   for (std::size_t i = 0; i < m.vertices.size(); ++i) {
-    for (int k = 0; k < 3; ++k) put(out, m.vertices[i][k]);
+    for (int k = 0; k < 3; ++k) put_bytes(out, m.vertices[i][k]);
     if (normals)
-      for (int k = 0; k < 3; ++k) put(out, m.normals[i][k]);
+      for (int k = 0; k < 3; ++k) put_bytes(out, m.normals[i][k]);
     if (colours)
-      for (int k = 0; k < 3; ++k) put(out, m.colours[i][std::size_t(k)]);
-    if (uv) put(out, m.uv[i]), put(out, m.uv[i]);
+      for (int k = 0; k < 3; ++k) put_bytes(out, m.colours[i][std::size_t(k)]);
+    if (uv) put_bytes(out, m.uv[i]), put_bytes(out, m.uv[i]);
   }
   for (const auto& t : m.triangles) {
-    put(out, std::uint8_t(3));
-    for (auto v : t) put(out, std::int32_t(v));
+    put_bytes(out, std::uint8_t(3));
+    for (auto v : t) put_bytes(out, std::int32_t(v));
   }
   return out;
 }

@@ -12,11 +12,6 @@ namespace {
 
 static_assert(std::endian::native == std::endian::little, "frame writers assume a little-endian host");
 
-template <class T>
-void put(std::string& out, T v) {
-  put_bytes(out, v);
-}
-
 }  // namespace
 
 std::string encode_ply(const ParticleSet& ps) {
@@ -35,14 +30,14 @@ std::string encode_ply(const ParticleSet& ps) {
   std::string out = header;
   out.reserve(header.size() + ps.size() * 4 * 32);
   for (std::size_t i = 0; i < ps.size(); ++i) {
-    for (int k = 0; k < 3; ++k) put(out, static_cast<float>(pos[i][k]));
+    for (int k = 0; k < 3; ++k) put_bytes(out, static_cast<float>(pos[i][k]));
     for (const auto& a : ps.vectors())
       if (a.info.exported && a.info.name != "position")
-        for (int k = 0; k < 3; ++k) put(out, static_cast<float>(a.data[i][k]));
+        for (int k = 0; k < 3; ++k) put_bytes(out, static_cast<float>(a.data[i][k]));
     for (const auto& a : ps.scalars())
-      if (a.info.exported) put(out, static_cast<float>(a.data[i]));
+      if (a.info.exported) put_bytes(out, static_cast<float>(a.data[i]));
     for (const auto& a : ps.integers())
-      if (a.info.exported) put(out, static_cast<std::int32_t>(a.data[i]));
+      if (a.info.exported) put_bytes(out, static_cast<std::int32_t>(a.data[i]));
   }
   return out;
 }
@@ -54,7 +49,7 @@ std::string encode_vtu(const ParticleSet& ps) {
   // Each appended block: UInt64 byte count, then the values.
   auto block = [&](const std::string& attrs, auto&& fill, std::uint64_t bytes) {
     xml += fmt::format("        <DataArray {} format=\"appended\" offset=\"{}\"/>\n", attrs, offset);
-    put(data, bytes);
+    put_bytes(data, bytes);
     fill();
     offset += 8 + bytes;
   };
@@ -69,7 +64,7 @@ std::string encode_vtu(const ParticleSet& ps) {
           fmt::format("type=\"Float32\" Name=\"{}\" NumberOfComponents=\"3\"", a.info.name),
           [&] {
             for (std::size_t i = 0; i < n; ++i)
-              for (int k = 0; k < 3; ++k) put(data, float(a.data[i][k]));
+              for (int k = 0; k < 3; ++k) put_bytes(data, float(a.data[i][k]));
           },
           n * 12);
   for (const auto& a : ps.scalars())
@@ -77,7 +72,7 @@ std::string encode_vtu(const ParticleSet& ps) {
       block(
           fmt::format("type=\"Float32\" Name=\"{}\"", a.info.name),
           [&] {
-            for (std::size_t i = 0; i < n; ++i) put(data, float(a.data[i]));
+            for (std::size_t i = 0; i < n; ++i) put_bytes(data, float(a.data[i]));
           },
           n * 4);
   for (const auto& a : ps.integers())
@@ -85,7 +80,7 @@ std::string encode_vtu(const ParticleSet& ps) {
       block(
           fmt::format("type=\"Int32\" Name=\"{}\"", a.info.name),
           [&] {
-            for (std::size_t i = 0; i < n; ++i) put(data, std::int32_t(a.data[i]));
+            for (std::size_t i = 0; i < n; ++i) put_bytes(data, std::int32_t(a.data[i]));
           },
           n * 4);
   xml += "      </PointData>\n      <Points>\n";
@@ -94,26 +89,26 @@ std::string encode_vtu(const ParticleSet& ps) {
       "type=\"Float32\" Name=\"Points\" NumberOfComponents=\"3\"",
       [&] {
         for (std::size_t i = 0; i < n; ++i)
-          for (int k = 0; k < 3; ++k) put(data, float(pos[i][k]));
+          for (int k = 0; k < 3; ++k) put_bytes(data, float(pos[i][k]));
       },
       n * 12);
   xml += "      </Points>\n      <Cells>\n";
   block(
       "type=\"Int64\" Name=\"connectivity\"",
       [&] {
-        for (std::size_t i = 0; i < n; ++i) put(data, std::int64_t(i));
+        for (std::size_t i = 0; i < n; ++i) put_bytes(data, std::int64_t(i));
       },
       n * 8);
   block(
       "type=\"Int64\" Name=\"offsets\"",
       [&] {
-        for (std::size_t i = 0; i < n; ++i) put(data, std::int64_t(i + 1));
+        for (std::size_t i = 0; i < n; ++i) put_bytes(data, std::int64_t(i + 1));
       },
       n * 8);
   block(
       "type=\"UInt8\" Name=\"types\"",
       [&] {
-        for (std::size_t i = 0; i < n; ++i) put(data, std::uint8_t(1));
+        for (std::size_t i = 0; i < n; ++i) put_bytes(data, std::uint8_t(1));
       },
       n);
   xml += "      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n";
