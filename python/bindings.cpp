@@ -546,8 +546,20 @@ PYBIND11_MODULE(_bakesim, m) {
       [](const fs::path& dir, std::vector<int> frames, bool all_frames, const std::string& mode,
          const std::string& colour, bool movie, bool strip, const std::string& cut,
          std::optional<std::array<double, 3>> camera, std::optional<std::array<double, 3>> look_at,
-         std::optional<Real> field_of_view, int turntable) {
+         std::optional<Real> field_of_view, int turntable, std::optional<std::pair<Real, Real>> range,
+         const std::string& method, std::optional<int> width, std::optional<int> height) {
         render::RenderRunOptions o;
+        // The command line's limits (bakesim render --width/--height).
+        for (const auto& [name, v] : {std::pair{"width", width}, std::pair{"height", height}})
+          if (v && (*v < 16 || *v > 8192))
+            throw InputError(std::string("render ") + name, fmt::format("{} is outside [16, 8192] pixels", *v));
+        if (range && !(range->first < range->second))
+          throw InputError("render range",
+                           fmt::format("({}, {}) is not (LOW, HIGH) with LOW < HIGH", range->first, range->second));
+        o.range = range;
+        o.method = surface::parse_surface_method(method);
+        o.width = width;
+        o.height = height;
         if (camera) o.camera_position = Vec3((*camera)[0], (*camera)[1], (*camera)[2]);
         if (look_at) o.look_at = Vec3((*look_at)[0], (*look_at)[1], (*look_at)[2]);
         o.field_of_view = field_of_view;
@@ -567,7 +579,8 @@ PYBIND11_MODULE(_bakesim, m) {
       },
       py::arg("run_dir"), py::arg("frames"), py::arg("all_frames"), py::arg("mode"), py::arg("colour"),
       py::arg("movie"), py::arg("strip"), py::arg("cut"), py::arg("camera"), py::arg("look_at"),
-      py::arg("field_of_view"), py::arg("turntable"), py::call_guard<py::gil_scoped_release>());
+      py::arg("field_of_view"), py::arg("turntable"), py::arg("range"), py::arg("method"), py::arg("width"),
+      py::arg("height"), py::call_guard<py::gil_scoped_release>());
   m.def(
       "plot", [](const fs::path& dir) { return render::plot_run(dir); }, py::arg("run_dir"),
       py::call_guard<py::gil_scoped_release>(), "Plots of stats.csv into RUN_DIR/plots/; returns the files.");

@@ -243,14 +243,19 @@ def mesh(run_dir, method="levelset", colour="browning", frames=None, voxel_ratio
 
 
 def render(run_dir, frames=None, all_frames=False, mode="mesh", colour=None, movie=False, strip=False, cut="",
-           camera=None, look_at=None, field_of_view=None, turntable=0):
+           camera=None, look_at=None, field_of_view=None, turntable=0, range=None, method="levelset", width=None,
+           height=None):
     """Pictures into RUN_DIR/render/ as `bakesim render` draws them; returns the files written.
 
-    colour: None for the scene's render.colour (else browning); cut: "z" or "x=0.01" (--cut);
+    colour: None for the scene's render.colour (else browning); range: (low, high) of the colour quantity
+    (--range; None: the scene's render.range, else the quantity's own); cut: "z" or "x=0.01" (--cut);
+    method: "levelset" or "wyvill" (--method); width, height: pixels (None: the scene's render size, 1280 x 720);
     camera, look_at: (x, y, z) in metres; field_of_view: degrees;
     turntable: N views of each frame around the vertical axis."""
     files, note = _bakesim._render(_os.fspath(run_dir), list(frames or []), all_frames, mode, colour or "", movie, strip,
-                                   cut, camera, look_at, field_of_view, int(turntable))
+                                   cut, camera, look_at, field_of_view, int(turntable),
+                                   None if range is None else (float(range[0]), float(range[1])), method,
+                                   None if width is None else int(width), None if height is None else int(height))
     return files
 
 

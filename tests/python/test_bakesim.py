@@ -33,6 +33,13 @@ def without_wall_time(stats_csv):
     return [",".join(c for i, c in enumerate(line.split(",")) if i != k) for line in lines]
 
 
+def png_size(path):
+    """(width, height) from a PNG's IHDR chunk."""
+    with open(path, "rb") as f:
+        head = f.read(24)
+    return int.from_bytes(head[16:20], "big"), int.from_bytes(head[20:24], "big")
+
+
 class Base(unittest.TestCase):
     def setUp(self):
         self.tmp = tempfile.mkdtemp(prefix="bakesim-py-")
@@ -244,11 +251,20 @@ class RunDirectories(Base):
         meshed = bakesim.mesh(out, frames=[0])
         self.assertEqual(meshed, [0])
         self.assertTrue(os.path.exists(os.path.join(out, "meshes", "00000.ply")))
-        pictures = bakesim.render(out, frames=[0])
+        # Small pictures (the size is the caller's, as with --width and --height).
+        small = {"width": 160, "height": 90}
+        pictures = bakesim.render(out, frames=[0], **small)
         self.assertTrue(pictures and all(os.path.exists(p) for p in pictures))
-        cut = bakesim.render(out, frames=[0], cut="z")
+        self.assertEqual(png_size(pictures[0]), (160, 90))
+        cut = bakesim.render(out, frames=[0], cut="z", **small)
         self.assertEqual([os.path.basename(p) for p in cut], ["mesh-browning-cut-z-00000.png"])
-        turns = bakesim.render(out, frames=[0], turntable=2, camera=(0.1, 0.1, 0.2), field_of_view=30)
+        ranged = bakesim.render(out, frames=[0], colour="temperature", range=(20, 40), method="wyvill", **small)
+        self.assertEqual([os.path.basename(p) for p in ranged], ["mesh-temperature-00000.png"])
+        self.assertNotEqual(open(ranged[0], "rb").read(), open(pictures[0], "rb").read())
+        for bad in ({"width": 8}, {"height": 10000}, {"range": (40, 20)}, {"method": "marching"}):
+            with self.assertRaises(bakesim.InputError, msg=str(bad)):
+                bakesim.render(out, frames=[0], **{**small, **bad})
+        turns = bakesim.render(out, frames=[0], turntable=2, camera=(0.1, 0.1, 0.2), field_of_view=30, **small)
         self.assertEqual([os.path.basename(p) for p in turns],
                          ["mesh-browning-00000-turn-000.png", "mesh-browning-00000-turn-001.png"])
         plots = bakesim.plot(out)
