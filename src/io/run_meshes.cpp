@@ -133,6 +133,22 @@ surface::ColourSamples colour_samples(const ParticleSet& ps, const RunGeometry& 
   return samples;
 }
 
+surface::ColourSamples pore_samples(const ParticleSet& ps, const RunGeometry& run) {
+  const surface::SurfaceParticles sp = surface_particles(ps, run);
+  surface::ColourSamples samples;
+  samples.position = sp.position;
+  const Real cell = run.spacing * run.spacing * run.spacing;
+  const auto bubble = attribute_values(ps, "bubble");
+  samples.volume.resize(ps.size());
+  samples.value.resize(ps.size());
+  for (std::size_t i = 0; i < ps.size(); ++i) {
+    samples.volume[i] = cell * sp.density_ratio[i];
+    const bool gas = bubble && (*bubble)[i] != 0;
+    samples.value[i] = gas ? 1.0 : std::max(0.0, 1.0 - 1.0 / std::max(sp.density_ratio[i], 1e-9));
+  }
+  return samples;
+}
+
 surface::SurfaceMesh frame_mesh(const ParticleSet& ps, const RunGeometry& run, const MeshSettings& settings) {
   surface::SurfaceMesh mesh = surface::reconstruct_surface(surface_particles(ps, run), settings.surface);
   surface::assign_uv(mesh, colour_samples(ps, run, settings), kColourSupport * run.spacing);

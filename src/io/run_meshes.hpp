@@ -52,6 +52,12 @@ inline constexpr Real kColourSupport = 2.0;
 // The particles' colouring samples (thesis Eq 4.5-4.7) of `settings.colour`.
 surface::ColourSamples colour_samples(const ParticleSet& particles, const RunGeometry& run,
                                       const MeshSettings& settings);
+// The pore gas share of each particle, as samples for the cut face's crumb
+// (RenderSettings::cut_pore_fraction): 1 for SPH bubble particles, else the
+// share of its volume the dough gained, max(0, 1 − 1/J) (J = ρ₀/ρ in SPH, det F
+// in MPM): the pores the rise opened. The gas the dough held before it rose is
+// not in the frames and is left out.
+surface::ColourSamples pore_samples(const ParticleSet& ps, const RunGeometry& run);
 // Meshes and colours one frame.
 surface::SurfaceMesh frame_mesh(const ParticleSet& particles, const RunGeometry& run, const MeshSettings& settings);
 // Writes NNNNN.ply / NNNNN.obj (and the material and texture) into `meshes_dir`, atomically.

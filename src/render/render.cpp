@@ -128,6 +128,52 @@ struct Random {
   float uniform() { return float(next() >> 8) * (1.0f / 16777216.0f); }
 };
 
+// MurmurHash3's 32-bit finaliser: every input bit reaches every output bit,
+// so neighbouring cells get unrelated numbers.
+std::uint32_t mix32(std::uint32_t h) {
+  h ^= h >> 16, h *= 0x85EBCA6Bu, h ^= h >> 13, h *= 0xC2B2AE35u, h ^= h >> 16;
+  return h;
+}
+// A cell's own random numbers: the finaliser over a Weyl sequence from its hash.
+struct CellRandom {
+  std::uint32_t state;
+  float uniform() { return float(mix32(state += 0x9E3779B9u) >> 8) * (1.0f / 16777216.0f); }
+};
+
+// Crumb pores on a cut face (RenderSettings::crumb_cell): a Boolean model
+// of spheres of radius R around the points of a Poisson process of one point
+// per cell³, drawn from a hash of the cell so that every picture of a body
+// shows the same crumb. Its section by any plane covers 1 − exp(−λ 4πR³/3) of
+// the plane (λ = 1/cell³), so R = cell (−3 ln(1 − φ)/4π)^⅓ makes the pore
+// area share φ. Returns how deep in a pore x lies: 0 on the crumb wall,
+// (0, 1] inside a pore (1 at its centre).
+float pore_depth(const Vec3f& x, float phi, float cell) {
+  if (!(phi > 0) || !(cell > 0)) return 0;
+  phi = std::min(phi, 0.85f);
+  const float radius = cell * std::cbrt(-3.0f * std::log(1.0f - phi) / (4.0f * float(kPi)));
+  const Vec3f q = x / cell;
+  const int cx = int(std::floor(q.x())), cy = int(std::floor(q.y())), cz = int(std::floor(q.z()));
+  const int reach = int(std::ceil(radius / cell));
+  float nearest2 = std::numeric_limits<float>::infinity();
+  for (int i = cx - reach; i <= cx + reach; ++i)
+    for (int j = cy - reach; j <= cy + reach; ++j)
+      for (int k = cz - reach; k <= cz + reach; ++k) {
+        CellRandom rng{
+            mix32(mix32(mix32(std::uint32_t(i)) ^ std::uint32_t(j) * 0x27D4EB2Du) + std::uint32_t(k) * 0x165667B1u)};
+        // Poisson(1) points in this cell, by inversion (more than 6: p < 1e-4, left out).
+        const float u = rng.uniform();
+        float cdf = std::exp(-1.0f), term = cdf;
+        int count = 0;
+        while (u > cdf && count < 6) term /= float(++count), cdf += term;
+        for (int n = 0; n < count; ++n) {
+          const Vec3f centre(float(i) + rng.uniform(), float(j) + rng.uniform(), float(k) + rng.uniform());
+          nearest2 = std::min(nearest2, (centre * cell - x).squaredNorm());
+        }
+      }
+  const float d = std::sqrt(nearest2);
+  return d < radius ? 1.0f - d / radius : 0.0f;
+}
+
 Vec3f srgb_to_linear(const std::array<std::uint8_t, 3>& c) {
   auto f = [](std::uint8_t v) { return std::pow(v / 255.0f, 2.2f); };
   return {f(c[0]), f(c[1]), f(c[2])};
@@ -299,6 +345,14 @@ Image trace(RayScene& rs, const Aabb& bodies, const RenderSettings& s, const Sur
     surface_at(h.hit, albedo, n);
     return n.dot(d) > 0;
   };
+  // The cut face's colour at p, darkened inside crumb pores: a pore's far
+  // wall is crumb too, in the pore's shade, deepest at its centre.
+  const auto crumb_albedo = [&](const Vec3f& p) -> Vec3f {
+    const Vec3f albedo = srgb_to_linear(s.cut_colour(p.cast<Real>()));
+    if (!s.cut_pore_fraction || !(s.crumb_cell > 0)) return albedo;
+    const float depth = pore_depth(p, float(s.cut_pore_fraction(p.cast<Real>())), float(s.crumb_cell));
+    return depth > 0 ? albedo * (0.88f - 0.4f * depth * depth) : albedo;
+  };
   // A prop or the ground seen through the cut where the ray crossed the plane
   // inside a body first: the body's cut face shows there (the plane is nearer
   // than anything kept); p, n and albedo move onto it.
@@ -311,7 +365,7 @@ Image trace(RayScene& rs, const Aabb& bodies, const RenderSettings& s, const Sur
     if (!(t >= 0 && t < far) || !inside_body(origin + t * dir, dir)) return false;
     p = origin + t * dir;
     n = along < 0 ? plane : Vec3f(-plane);
-    albedo = srgb_to_linear(s.cut_colour(p.cast<Real>()));
+    albedo = crumb_albedo(p);
     return true;
   };
   Image img(s.width, s.height);
@@ -351,8 +405,10 @@ Image trace(RayScene& rs, const Aabb& bodies, const RenderSettings& s, const Sur
               const int prop_index = rh.hit.geomID < prop_of_geometry.size() ? prop_of_geometry[rh.hit.geomID] : -1;
               const PlacedProp* prop = prop_index >= 0 ? &placed[std::size_t(prop_index)] : nullptr;
               Vec3f albedo, n;
+              bool on_cut_face = false;  // crumb: matte, no highlight
               if ((ground || prop) && body_cut_face(origin, dir, rh.ray.tfar, p, n, albedo)) {
                 ground = false, prop = nullptr;  // p, n and albedo: the body's cut face
+                on_cut_face = true;
               } else if (ground) {
                 albedo = Vec3f(0.78f, 0.76f, 0.73f);
                 n = Vec3f(0, 1, 0);
@@ -365,8 +421,10 @@ Image trace(RayScene& rs, const Aabb& bodies, const RenderSettings& s, const Sur
               } else {
                 surface_at(rh.hit, albedo, n);
                 // Seeing the inside of the body from the cut side: its cut face, coloured by the quantity.
-                if (cut && n.dot(dir) > 0 && cut_face(origin, dir, p, n) && s.cut_colour)
-                  albedo = srgb_to_linear(s.cut_colour(p.cast<Real>()));
+                if (cut && n.dot(dir) > 0 && cut_face(origin, dir, p, n) && s.cut_colour) {
+                  albedo = crumb_albedo(p);
+                  on_cut_face = true;
+                }
                 if (n.dot(dir) > 0) n = -n;
               }
               const Vec3f h = (key - dir).normalized();
@@ -418,7 +476,7 @@ Image trace(RayScene& rs, const Aabb& bodies, const RenderSettings& s, const Sur
                 const Vec3f mirrored = dir - 2 * dir.dot(n) * n;
                 c += l.mirror * open * albedo.cwiseProduct(background(mirrored));
                 c += Vec3f::Constant(l.specular * visible * std::pow(std::max(0.0f, n.dot(h)), l.exponent));
-              } else {
+              } else if (!on_cut_face) {
                 c += Vec3f::Constant(0.12f * visible * std::pow(std::max(0.0f, n.dot(h)), 30.0f));
               }
               sum += throughput.cwiseProduct(c);

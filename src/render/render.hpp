@@ -48,8 +48,16 @@ struct RenderSettings {
   std::optional<Camera> camera;
   std::optional<CutPlane> cut;
   std::function<std::array<std::uint8_t, 3>(const Vec3&)> cut_colour;  // sRGB of the body's cut face at a point
-  int samples = 4;                                                     // per pixel (a jittered 2×2 pattern for 4)
-  int shadow_samples = 2;                                              // key-light rays per sample
+  // The share of the body's volume that is pore gas at a point of its cut face
+  // (0–1); empty: a solid face. The cut face then shows pores (crumb_pores).
+  std::function<Real(const Vec3&)> cut_pore_fraction;
+  // Crumb cells on the cut face: spherical pores, on average one per cube of
+  // side `crumb_cell` (m), placed at random (a Boolean model), their radius
+  // set so that the face's pore area share equals the pore fraction there
+  // (Delesse: area share = volume share on a section). 0: no pores drawn.
+  Real crumb_cell = 0.002;
+  int samples = 4;            // per pixel (a jittered 2×2 pattern for 4)
+  int shadow_samples = 2;     // key-light rays per sample
   int occlusion_samples = 4;  // 2 left visible grain in the shade inside tins and cups
 };
 

@@ -65,6 +65,7 @@ RenderRunResult render_run(const fs::path& run_dir, const RenderRunOptions& o) {
   const auto& r = run.scene.contains("render") ? run.scene["render"] : nlohmann::json::object();
   settings.width = o.width.value_or(r.value("width", 1280));
   settings.height = o.height.value_or(r.value("height", 720));
+  settings.crumb_cell = r.value("crumb_cell", settings.crumb_cell);
   // The colour: the command's, else the scene's render.colour with its range, else browning.
   const std::string colour = !o.colour.empty() ? o.colour : r.value("colour", std::string("browning"));
   std::optional<std::pair<Real, Real>> colour_range_given = o.range;
@@ -166,13 +167,21 @@ RenderRunResult render_run(const fs::path& run_dir, const RenderRunOptions& o) {
     if (o.mode == "mesh") {
       const surface::SurfaceMesh mesh = frame_mesh(ps, geometry, mesh_opts);
       RenderSettings frame_settings = settings;
-      std::optional<surface::ColourField> field;
+      std::optional<surface::ColourField> field, pores;
       if (settings.cut) {
         // The cut face: the same colouring as the surface, at every point of the plane inside the body.
         field.emplace(colour_samples(ps, geometry, mesh_opts), kColourSupport * geometry.spacing);
         frame_settings.cut_colour = [&, palette = bar.palette](const Vec3& x) {
           return surface::palette_colour(palette, surface::value_of_colour_coordinate(field->uv_at(x)));
         };
+        // And its crumb: pores where the dough rose (the same interpolation of the pore share, over twice the
+        // support: a bubble particle is a pore of its own size, and the crumb's cells are drawn finer).
+        if (settings.crumb_cell > 0) {
+          pores.emplace(pore_samples(ps, geometry), 2 * kColourSupport * geometry.spacing);
+          frame_settings.cut_pore_fraction = [&](const Vec3& x) {
+            return surface::value_of_colour_coordinate(pores->uv_at(x));
+          };
+        }
       }
       return render_mesh(mesh, frame_settings, text, tile ? nullptr : &bar, caption, props_at(f));
     }

@@ -255,7 +255,9 @@ TEST(Render, TheCutFaceOfAHalfHotSphereShowsTheColourRamp) {
   settings.cut = parse_cut_plane("z", box);
   EXPECT_NEAR(settings.cut->offset, 0.0, 1e-15);
   // Cold (the heat palette's blue) where x < 0, hot (red) where x > 0.
-  settings.cut_colour = [](const Vec3& x) { return surface::palette_colour(surface::Palette::heat, x.x() > 0 ? 1 : 0); };
+  settings.cut_colour = [](const Vec3& x) {
+    return surface::palette_colour(surface::Palette::heat, x.x() > 0 ? 1 : 0);
+  };
   const TextRenderer text;
   const Image img = render_mesh(mesh, settings, text);
   int hot_right = 0, cold_left = 0, wrong = 0;
@@ -263,8 +265,10 @@ TEST(Render, TheCutFaceOfAHalfHotSphereShowsTheColourRamp) {
     for (int x = 0; x < settings.width; ++x) {
       const std::uint8_t* p = img.at(x, y);
       const bool red = p[0] > p[2] + 60, blue = p[2] > p[0] + 60;
-      if (x >= settings.width / 2) hot_right += red, wrong += blue;
-      else cold_left += blue, wrong += red;
+      if (x >= settings.width / 2)
+        hot_right += red, wrong += blue;
+      else
+        cold_left += blue, wrong += red;
     }
   // The disc of radius 3 cm seen from 0.3 m with a 20° field: π (r_px)² pixels.
   const double r_px = 0.03 / (0.3 * std::tan(10 * kPi / 180)) * settings.height / 2;
@@ -277,12 +281,57 @@ TEST(Render, TheCutFaceOfAHalfHotSphereShowsTheColourRamp) {
   const Image whole = render_mesh(mesh, settings, text);
   int coloured = 0;
   for (int y = 0; y < settings.height; ++y)
-    for (int x = 0; x < settings.width; ++x)
-      coloured += std::abs(int(whole.at(x, y)[0]) - int(whole.at(x, y)[2])) > 60;
+    for (int x = 0; x < settings.width; ++x) coloured += std::abs(int(whole.at(x, y)[0]) - int(whole.at(x, y)[2])) > 60;
   EXPECT_EQ(coloured, 0);
   EXPECT_THROW(parse_cut_plane("w=1", box), InputError);
   EXPECT_THROW(parse_cut_plane("x=abc", box), InputError);
   EXPECT_NEAR(parse_cut_plane("y=0.01", box).offset, 0.01, 1e-15);
+}
+
+// Issue 23, crumb vs crust: pores on a cut face cover the share of it that the
+// pore fraction gives (Delesse's principle for the Boolean model of spheres the
+// renderer draws), the same crumb in every picture, none where there is no gas.
+TEST(Render, CrumbPoresCoverTheirShareOfTheCutFace) {
+  const surface::SurfaceMesh mesh = grey_ball();  // radius 3 cm, centre (0, 0.03, 0)
+  RenderSettings settings = view(400, 400, Camera{Vec3(0, 0.03, 0.3), Vec3(0, 0.03, 0), 20});
+  settings.cut = parse_cut_plane("z", Aabb{Vec3(-0.03, 0, -0.03), Vec3(0.03, 0.06, 0.03)});
+  settings.cut_colour = [](const Vec3&) { return surface::palette_colour(surface::Palette::baking, 0); };
+  settings.crumb_cell = 0.0015;  // about 900 cells² of face in the disc counted, 5.6 pixels a cell
+  const TextRenderer text;
+  const Image solid = render_mesh(mesh, settings, text);
+  const auto luma = [](const std::uint8_t* p) { return 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2]; };
+  // The disc's pixels (well inside its 3 cm radius, seen from 0.3 m with a 20° field) that a pore darkens:
+  // a pore's rim is drawn at 0.88 of the face's linear albedo, 0.955 of its sRGB value after the tone
+  // curve; the pixels darker than halfway down that step are counted.
+  const double r_px = 0.03 / (0.3 * std::tan(10 * kPi / 180)) * settings.height / 2;
+  const auto pore_share = [&](const Image& img) {
+    long disc = 0, dark = 0;
+    for (int y = 0; y < settings.height; ++y)
+      for (int x = 0; x < settings.width; ++x) {
+        if (std::hypot(x + 0.5 - settings.width / 2.0, y + 0.5 - settings.height / 2.0) > 0.85 * r_px) continue;
+        ++disc;
+        dark += luma(img.at(x, y)) < 0.978 * luma(solid.at(x, y));
+      }
+    return double(dark) / double(disc);
+  };
+  for (const double phi : {0.2, 0.5, 0.7}) {
+    settings.cut_pore_fraction = [phi](const Vec3&) { return phi; };
+    const Image crumb = render_mesh(mesh, settings, text);
+    const double share = pore_share(crumb);
+    RecordProperty("pore_share_" + std::to_string(int(phi * 100)), std::to_string(share));
+    EXPECT_NEAR(share, phi, 0.04) << "pore fraction " << phi;  // measured 0.196, 0.503, 0.715
+    // The same crumb in a second picture (pores placed from a hash of space, not at random per picture).
+    if (phi == 0.5) {
+      const Image again = render_mesh(mesh, settings, text);
+      EXPECT_EQ(crumb.rgb, again.rgb);
+    }
+  }
+  // No gas, no pores: the picture of a solid face.
+  settings.cut_pore_fraction = [](const Vec3&) { return 0.0; };
+  EXPECT_EQ(pore_share(render_mesh(mesh, settings, text)), 0.0);
+  settings.cut_pore_fraction = [](const Vec3&) { return 0.5; };
+  settings.crumb_cell = 0;  // turned off
+  EXPECT_EQ(pore_share(render_mesh(mesh, settings, text)), 0.0);
 }
 
 // A body pressed into a collider (a cake against its pan's wall: surfaces
@@ -302,8 +351,8 @@ TEST(Render, TheCutFaceShowsWhereAColliderOverlapsTheBody) {
   const int alone = red_pixels(render_mesh(mesh, settings, text));
   const int with_block = red_pixels(render_mesh(mesh, settings, text, nullptr, "", {block}));
   ASSERT_GT(alone, 2000);
-  EXPECT_NEAR(with_block, alone, 0.02 * alone) << with_block << " cut-face pixels with the block, " << alone
-                                               << " without";
+  EXPECT_NEAR(with_block, alone, 0.02 * alone)
+      << with_block << " cut-face pixels with the block, " << alone << " without";
 }
 
 TEST(Plot, NiceTicksAndALineWhereTheDataAre) {
