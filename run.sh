@@ -16,6 +16,7 @@ $B run "$SCENE" --out "$OUT" --pictures         # the full bake; pictures in $OU
 $B mesh "$OUT"                                  # surface meshes of every frame: meshes/NNNNN.ply, .obj
 $B render "$OUT" --all --width 640 --height 360 --strip --movie  # small pictures of every frame, a strip, an MP4 if ffmpeg is there
 $B render "$OUT"                                # the final frame at full size
+$B render "$OUT" --cut z                        # cut in half: the crumb's pores inside the crust
 $B render "$OUT" --mode particles --color temperature
 $B plot "$OUT" >/dev/null                       # plots/temperatures.png, volume.png, height.png
 echo "In $OUT/: render/ (pictures, strip, movie), meshes/ (PLY, OBJ+MTL for Blender or Houdini),"
