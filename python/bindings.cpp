@@ -36,6 +36,14 @@ using namespace bakesim;
 
 namespace {
 
+// A colour range given from Python: (LOW, HIGH) with LOW < HIGH, as --range asks.
+std::optional<std::pair<Real, Real>> checked_range(const std::optional<std::pair<Real, Real>>& range,
+                                                   const std::string& where) {
+  if (range && !(range->first < range->second))
+    throw InputError(where, fmt::format("({}, {}) is not (LOW, HIGH) with LOW < HIGH", range->first, range->second));
+  return range;
+}
+
 // Python's json module turns values into text and back: the scene loader reads JSON.
 std::string to_json_text(const py::handle& value) {
   return py::module_::import("json").attr("dumps")(value).cast<std::string>();
@@ -531,16 +539,20 @@ PYBIND11_MODULE(_bakesim, m) {
   m.def(
       "_mesh",
       [](const fs::path& dir, const std::string& method, const std::string& colour, std::optional<double> voxel_ratio,
-         std::vector<int> frames) {
+         std::vector<int> frames, std::optional<std::pair<Real, Real>> range, bool vdb) {
         MeshSettings settings;
         settings.surface.method = surface::parse_surface_method(method);
+        if (voxel_ratio && !(*voxel_ratio >= 0.1 && *voxel_ratio <= 2))  // bakesim mesh --voxel's limits
+          throw InputError("mesh voxel_ratio", fmt::format("{} is outside [0.1, 2] particle spacings", *voxel_ratio));
         if (voxel_ratio) settings.surface.voxel_ratio = *voxel_ratio;
         settings.colour = colour;
+        settings.range = checked_range(range, "mesh range");
+        settings.vdb = vdb;
         const MeshRunResult r = mesh_run(dir, settings, std::move(frames));
         return std::make_tuple(r.frames, r.triangles, r.warnings);
       },
       py::arg("run_dir"), py::arg("method"), py::arg("colour"), py::arg("voxel_ratio"), py::arg("frames"),
-      py::call_guard<py::gil_scoped_release>());
+      py::arg("range"), py::arg("vdb"), py::call_guard<py::gil_scoped_release>());
   m.def(
       "_render",
       [](const fs::path& dir, std::vector<int> frames, bool all_frames, const std::string& mode,
@@ -553,10 +565,7 @@ PYBIND11_MODULE(_bakesim, m) {
         for (const auto& [name, v] : {std::pair{"width", width}, std::pair{"height", height}})
           if (v && (*v < 16 || *v > 8192))
             throw InputError(std::string("render ") + name, fmt::format("{} is outside [16, 8192] pixels", *v));
-        if (range && !(range->first < range->second))
-          throw InputError("render range",
-                           fmt::format("({}, {}) is not (LOW, HIGH) with LOW < HIGH", range->first, range->second));
-        o.range = range;
+        o.range = checked_range(range, "render range");
         o.method = surface::parse_surface_method(method);
         o.width = width;
         o.height = height;

@@ -233,9 +233,14 @@ def frames(run_dir):
     return out
 
 
-def mesh(run_dir, method="levelset", colour="browning", frames=None, voxel_ratio=None):
-    """Surface meshes of a run's frames into RUN_DIR/meshes/ (as `bakesim mesh`); returns the frames meshed."""
-    done, triangles, warnings = _bakesim._mesh(_os.fspath(run_dir), method, colour, voxel_ratio, list(frames or []))
+def mesh(run_dir, method="levelset", colour="browning", frames=None, voxel_ratio=None, range=None, vdb=False):
+    """Surface meshes of a run's frames into RUN_DIR/meshes/ (as `bakesim mesh`); returns the frames meshed.
+
+    range: (low, high) of the colour quantity (--range); voxel_ratio: voxel size in particle spacings, 0.1-2
+    (--voxel); vdb: also NNNNN.vdb per frame (--vdb)."""
+    done, triangles, warnings = _bakesim._mesh(_os.fspath(run_dir), method, colour, voxel_ratio, list(frames or []),
+                                               None if range is None else (float(range[0]), float(range[1])),
+                                               bool(vdb))
     for w in warnings:
         import warnings as _warnings
         _warnings.warn(w)

@@ -251,6 +251,15 @@ class RunDirectories(Base):
         meshed = bakesim.mesh(out, frames=[0])
         self.assertEqual(meshed, [0])
         self.assertTrue(os.path.exists(os.path.join(out, "meshes", "00000.ply")))
+        self.assertFalse(os.path.exists(os.path.join(out, "meshes", "00000.vdb")))
+        plain = open(os.path.join(out, "meshes", "00000.ply"), "rb").read()
+        # The command line's --range, --vdb and --voxel: another colouring, a VDB beside the mesh.
+        self.assertEqual(bakesim.mesh(out, frames=[0], colour="temperature", range=(20, 30), vdb=True), [0])
+        self.assertTrue(os.path.getsize(os.path.join(out, "meshes", "00000.vdb")) > 0)
+        self.assertNotEqual(open(os.path.join(out, "meshes", "00000.ply"), "rb").read(), plain)
+        for bad in ({"range": (30, 20)}, {"voxel_ratio": 5}, {"voxel_ratio": 0.01}):
+            with self.assertRaises(bakesim.InputError, msg=str(bad)):
+                bakesim.mesh(out, frames=[0], **bad)
         # Small pictures (the size is the caller's, as with --width and --height).
         small = {"width": 160, "height": 90}
         pictures = bakesim.render(out, frames=[0], **small)
