@@ -319,7 +319,7 @@ TEST(Render, CrumbPoresCoverTheirShareOfTheCutFace) {
     const Image crumb = render_mesh(mesh, settings, text);
     const double share = pore_share(crumb);
     RecordProperty("pore_share_" + std::to_string(int(phi * 100)), std::to_string(share));
-    EXPECT_NEAR(share, phi, 0.04) << "pore fraction " << phi;  // measured 0.196, 0.503, 0.715
+    EXPECT_NEAR(share, phi, 0.04) << "pore fraction " << phi;  // measured 0.197, 0.505, 0.716
     // The same crumb in a second picture (pores placed from a hash of space, not at random per picture).
     if (phi == 0.5) {
       const Image again = render_mesh(mesh, settings, text);
