@@ -36,14 +36,6 @@ using namespace bakesim;
 
 namespace {
 
-// A colour range given from Python: (LOW, HIGH) with LOW < HIGH, as --range asks.
-std::optional<std::pair<Real, Real>> checked_range(const std::optional<std::pair<Real, Real>>& range,
-                                                   const std::string& where) {
-  if (range && !(range->first < range->second))
-    throw InputError(where, fmt::format("({}, {}) is not (LOW, HIGH) with LOW < HIGH", range->first, range->second));
-  return range;
-}
-
 // Python's json module turns values into text and back: the scene loader reads JSON.
 std::string to_json_text(const py::handle& value) {
   return py::module_::import("json").attr("dumps")(value).cast<std::string>();
@@ -542,11 +534,9 @@ PYBIND11_MODULE(_bakesim, m) {
          std::vector<int> frames, std::optional<std::pair<Real, Real>> range, bool vdb) {
         MeshSettings settings;
         settings.surface.method = surface::parse_surface_method(method);
-        if (voxel_ratio && !(*voxel_ratio >= 0.1 && *voxel_ratio <= 2))  // bakesim mesh --voxel's limits
-          throw InputError("mesh voxel_ratio", fmt::format("{} is outside [0.1, 2] particle spacings", *voxel_ratio));
-        if (voxel_ratio) settings.surface.voxel_ratio = *voxel_ratio;
+        if (voxel_ratio) settings.surface.voxel_ratio = *voxel_ratio;  // mesh_run checks it and the range
         settings.colour = colour;
-        settings.range = checked_range(range, "mesh range");
+        settings.range = range;
         settings.vdb = vdb;
         const MeshRunResult r = mesh_run(dir, settings, std::move(frames));
         return std::make_tuple(r.frames, r.triangles, r.warnings);
@@ -560,12 +550,8 @@ PYBIND11_MODULE(_bakesim, m) {
          std::optional<std::array<double, 3>> camera, std::optional<std::array<double, 3>> look_at,
          std::optional<Real> field_of_view, int turntable, std::optional<std::pair<Real, Real>> range,
          const std::string& method, std::optional<int> width, std::optional<int> height) {
-        render::RenderRunOptions o;
-        // The command line's limits (bakesim render --width/--height).
-        for (const auto& [name, v] : {std::pair{"width", width}, std::pair{"height", height}})
-          if (v && (*v < 16 || *v > 8192))
-            throw InputError(std::string("render ") + name, fmt::format("{} is outside [16, 8192] pixels", *v));
-        o.range = checked_range(range, "render range");
+        render::RenderRunOptions o;  // render_run checks the size and the range
+        o.range = range;
         o.method = surface::parse_surface_method(method);
         o.width = width;
         o.height = height;

@@ -114,13 +114,20 @@ surface::SurfaceParticles surface_particles(const ParticleSet& ps, const RunGeom
   return s;
 }
 
-surface::ColourSamples colour_samples(const ParticleSet& ps, const RunGeometry& run, const MeshSettings& settings) {
-  const surface::SurfaceParticles sp = surface_particles(ps, run);
+namespace {
+// Samples at the particles, weighted by their volumes m/ρ = s³ ρ₀/ρ; values to be filled.
+surface::ColourSamples samples_at(const surface::SurfaceParticles& sp, const RunGeometry& run) {
   surface::ColourSamples samples;
   samples.position = sp.position;
   const Real cell = run.spacing * run.spacing * run.spacing;
-  samples.volume.resize(ps.size());
-  for (std::size_t i = 0; i < ps.size(); ++i) samples.volume[i] = cell * sp.density_ratio[i];  // m/ρ
+  samples.volume.resize(sp.position.size());
+  for (std::size_t i = 0; i < sp.position.size(); ++i) samples.volume[i] = cell * sp.density_ratio[i];
+  return samples;
+}
+}  // namespace
+
+surface::ColourSamples colour_samples(const ParticleSet& ps, const RunGeometry& run, const MeshSettings& settings) {
+  surface::ColourSamples samples = samples_at(surface_particles(ps, run), run);
   const auto [lo, hi] = colour_range(ps, settings.colour, settings.range);
   samples.value = particle_values(ps, settings.colour);
   for (Real& v : samples.value) v = (v - lo) / (hi - lo);
@@ -135,14 +142,10 @@ surface::ColourSamples colour_samples(const ParticleSet& ps, const RunGeometry& 
 
 surface::ColourSamples pore_samples(const ParticleSet& ps, const RunGeometry& run) {
   const surface::SurfaceParticles sp = surface_particles(ps, run);
-  surface::ColourSamples samples;
-  samples.position = sp.position;
-  const Real cell = run.spacing * run.spacing * run.spacing;
+  surface::ColourSamples samples = samples_at(sp, run);
   const auto bubble = attribute_values(ps, "bubble");
-  samples.volume.resize(ps.size());
   samples.value.resize(ps.size());
   for (std::size_t i = 0; i < ps.size(); ++i) {
-    samples.volume[i] = cell * sp.density_ratio[i];
     const bool gas = bubble && (*bubble)[i] != 0;
     samples.value[i] = gas ? 1.0 : std::max(0.0, 1.0 - 1.0 / std::max(sp.density_ratio[i], 1e-9));
   }
@@ -288,6 +291,13 @@ surface::SurfaceMesh collider_surface(const PosedCollider& collider) {
 }
 
 MeshRunResult mesh_run(const fs::path& dir, const MeshSettings& settings, std::vector<int> frames) {
+  // The command line's limits, for every caller (0: the method's own voxel).
+  const Real voxel = settings.surface.voxel_ratio;
+  if (voxel != 0 && !(voxel >= 0.1 && voxel <= 2))
+    throw InputError("mesh --voxel", fmt::format("{} is outside [0.1, 2] particle spacings", voxel));
+  if (settings.range && !(settings.range->first < settings.range->second))
+    throw InputError("mesh --range",
+                     fmt::format("expects LOW < HIGH, got {}, {}", settings.range->first, settings.range->second));
   const RunDirectory run = open_run(dir);
   if (run.frames.empty()) throw InputError(dir.string(), "has no particle frames (frames/NNNNN.ply) to mesh");
   // meshes/ is the run's own folder: not while a run (or another mesh command) writes there.

@@ -154,6 +154,7 @@ float pore_depth(const Vec3f& x, float phi, float cell) {
   const Vec3f q = x / cell;
   const int cx = int(std::floor(q.x())), cy = int(std::floor(q.y())), cz = int(std::floor(q.z()));
   const int reach = int(std::ceil(radius / cell));
+  const float no_point = std::exp(-1.0f);  // Poisson(1): P(0)
   float nearest2 = std::numeric_limits<float>::infinity();
   for (int i = cx - reach; i <= cx + reach; ++i)
     for (int j = cy - reach; j <= cy + reach; ++j)
@@ -162,7 +163,7 @@ float pore_depth(const Vec3f& x, float phi, float cell) {
             mix32(mix32(mix32(std::uint32_t(i)) ^ std::uint32_t(j) * 0x27D4EB2Du) + std::uint32_t(k) * 0x165667B1u)};
         // Poisson(1) points in this cell, by inversion (more than 6: p < 1e-4, left out).
         const float u = rng.uniform();
-        float cdf = std::exp(-1.0f), term = cdf;
+        float cdf = no_point, term = no_point;
         int count = 0;
         while (u > cdf && count < 6) term /= float(++count), cdf += term;
         for (int n = 0; n < count; ++n) {

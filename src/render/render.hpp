@@ -49,7 +49,7 @@ struct RenderSettings {
   std::optional<CutPlane> cut;
   std::function<std::array<std::uint8_t, 3>(const Vec3&)> cut_colour;  // sRGB of the body's cut face at a point
   // The share of the body's volume that is pore gas at a point of its cut face
-  // (0–1); empty: a solid face. The cut face then shows pores (crumb_pores).
+  // (0–1); empty: a solid face. The cut face then shows pores (crumb_cell).
   std::function<Real(const Vec3&)> cut_pore_fraction;
   // Crumb cells on the cut face: spherical pores, on average one per cube of
   // side `crumb_cell` (m), placed at random (a Boolean model), their radius

@@ -65,6 +65,12 @@ RenderRunResult render_run(const fs::path& run_dir, const RenderRunOptions& o) {
   const auto& r = run.scene.contains("render") ? run.scene["render"] : nlohmann::json::object();
   settings.width = o.width.value_or(r.value("width", 1280));
   settings.height = o.height.value_or(r.value("height", 720));
+  // The command line's limits, for every caller (the schema checks the scene's render size).
+  for (const auto& [option, pixels] : {std::pair{"render --width", o.width}, std::pair{"render --height", o.height}})
+    if (pixels && (*pixels < 16 || *pixels > 8192))
+      throw InputError(option, fmt::format("{} is outside [16, 8192] pixels", *pixels));
+  if (o.range && !(o.range->first < o.range->second))
+    throw InputError("render --range", fmt::format("expects LOW < HIGH, got {}, {}", o.range->first, o.range->second));
   settings.crumb_cell = r.value("crumb_cell", settings.crumb_cell);
   // The colour: the command's, else the scene's render.colour with its range, else browning.
   const std::string colour = !o.colour.empty() ? o.colour : r.value("colour", std::string("browning"));
@@ -178,9 +184,7 @@ RenderRunResult render_run(const fs::path& run_dir, const RenderRunOptions& o) {
         // support: a bubble particle is a pore of its own size, and the crumb's cells are drawn finer).
         if (settings.crumb_cell > 0) {
           pores.emplace(pore_samples(ps, geometry), 2 * kColourSupport * geometry.spacing);
-          frame_settings.cut_pore_fraction = [&](const Vec3& x) {
-            return surface::value_of_colour_coordinate(pores->uv_at(x));
-          };
+          frame_settings.cut_pore_fraction = [&](const Vec3& x) { return pores->value_at(x); };
         }
       }
       return render_mesh(mesh, frame_settings, text, tile ? nullptr : &bar, caption, props_at(f));

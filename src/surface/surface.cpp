@@ -246,7 +246,9 @@ void compute_normals(SurfaceMesh& m) {
 
 // ---- colouring --------------------------------------------------------------
 
-namespace {
+// Named, not anonymous: ColourField::Index (a member type of a class with
+// linkage) holds them, and in the unity build GCC warns about anonymous types there.
+namespace detail {
 
 struct PointCloud {
   const std::vector<Vec3>* pts;
@@ -259,6 +261,12 @@ struct PointCloud {
 };
 using KdTree =
     nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<Real, PointCloud>, PointCloud, 3, std::size_t>;
+
+}  // namespace detail
+using detail::KdTree;
+using detail::PointCloud;
+
+namespace {
 
 // Cubic spline kernel with support radius `support` (unnormalised: the sum is
 // Shepard-normalised, so the constant cancels).
@@ -299,27 +307,43 @@ Real value_of_colour_coordinate(Real u) {
   return std::clamp((u - kDoughOffset - kBaseCoordinate) / kValueScale, Real(0), Real(1));
 }
 
-std::optional<Real> ColourField::uv_within(const Vec3& x) const {
+template <class G>
+std::optional<Real> ColourField::shepard(const Vec3& x, const G& g) const {
   if (!index_) return std::nullopt;
   thread_local std::vector<std::pair<std::size_t, Real>> found;  // the search reuses its storage
   index_->tree.radiusSearch(x.data(), support_ * support_, found, nanoflann::SearchParams(32, 0, false));
   Real num = 0, den = 0;
   for (const auto& f : found) {
     const Real w = samples_.volume[f.first] * spline(std::sqrt(f.second), support_);  // Eq 4.5
-    num += w * sample_g(samples_, f.first);
+    num += w * g(f.first);
     den += w;
   }
   if (den > 0) return num / den;
   return std::nullopt;
 }
 
+std::size_t ColourField::nearest(const Vec3& x) const {
+  std::size_t j = 0;
+  Real d2 = 0;
+  index_->tree.knnSearch(x.data(), 1, &j, &d2);
+  return j;
+}
+
+std::optional<Real> ColourField::uv_within(const Vec3& x) const {
+  return shepard(x, [&](std::size_t j) { return sample_g(samples_, j); });
+}
+
 Real ColourField::uv_at(const Vec3& x) const {
   if (!index_) return 0.05;
   if (const std::optional<Real> u = uv_within(x)) return *u;
-  std::size_t nearest = 0;
-  Real d2 = 0;
-  index_->tree.knnSearch(x.data(), 1, &nearest, &d2);
-  return sample_g(samples_, nearest);
+  return sample_g(samples_, nearest(x));
+}
+
+Real ColourField::value_at(const Vec3& x) const {
+  if (!index_) return 0;
+  const auto value = [&](std::size_t j) { return std::clamp(samples_.value[j], 0.0, 1.0); };
+  if (const std::optional<Real> v = shepard(x, value)) return *v;
+  return value(nearest(x));
 }
 
 void assign_uv(SurfaceMesh& mesh, const ColourSamples& s, Real support) {

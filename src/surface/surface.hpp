@@ -119,9 +119,17 @@ class ColourField {
   Real uv_at(const Vec3& x) const;
   // The Shepard sum alone: none when no sample lies within the support.
   std::optional<Real> uv_within(const Vec3& x) const;
+  // The samples' own values (clamped to [0, 1]) by the same Shepard sum, the
+  // nearest sample's where none lies within the support; 0 without samples
+  // (the cut face's pore share).
+  Real value_at(const Vec3& x) const;
 
  private:
   struct Index;
+  // Σ w_j g(j) / Σ w_j over the samples within the support (Eq 4.5's weights).
+  template <class G>
+  std::optional<Real> shepard(const Vec3& x, const G& g) const;
+  std::size_t nearest(const Vec3& x) const;
   ColourSamples samples_;
   Real support_;
   std::unique_ptr<Index> index_;
