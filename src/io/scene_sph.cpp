@@ -60,7 +60,7 @@ sph::BubbleSpec build_bubbles(const Ctx& c, const std::string& path, const json&
   return bs;
 }
 
-sph::Settings build_settings(const json& doc) {
+sph::Settings build_settings(const Ctx& c, const json& doc) {
   const json& sj = doc["solver"]["sph"];
   sph::Settings st;
   st.spacing = sj["spacing"].get<double>();
@@ -86,8 +86,13 @@ sph::Settings build_settings(const json& doc) {
   st.viscosity_solver = sph::parse_viscosity_solver(sj["viscosity_solver"].get<std::string>());
   st.stress_viscosity = sj["viscosity_operator"].get<std::string>() == "stress";
   if (st.stress_viscosity && st.viscosity_solver == sph::ViscositySolver::explicit_euler)
-    throw InputError("solver.sph.viscosity_operator",
-                     "\"stress\" is solved implicitly: set viscosity_solver to implicit or auto");
+    c.fail("solver.sph.viscosity_operator",
+           "\"stress\" is solved implicitly: set viscosity_solver to implicit or auto");
+  st.implicit_elasticity = sj["elasticity_solver"].get<std::string>() == "implicit";
+  if (st.implicit_elasticity && st.viscosity_solver == sph::ViscositySolver::explicit_euler)
+    c.fail("solver.sph.elasticity_solver",
+           "\"implicit\" solves the elastic increment with the implicit viscosity: set viscosity_solver to implicit or "
+           "auto");
   const json& aj = sj["adaptive_smoothing"];
   st.adaptive.enabled = aj["enabled"].get<bool>();
   st.adaptive.geometric_mean = aj["reference"].get<std::string>() == "geometric_mean";
@@ -96,7 +101,7 @@ sph::Settings build_settings(const json& doc) {
   st.adaptive.min_ratio = aj["range"][0].get<double>();
   st.adaptive.max_ratio = aj["range"][1].get<double>();
   if (st.adaptive.min_ratio > st.adaptive.max_ratio)
-    throw InputError("solver.sph.adaptive_smoothing.range", "the lower limit exceeds the upper one");
+    c.fail("solver.sph.adaptive_smoothing.range", "the lower limit exceeds the upper one");
   st.artificial_stress = sj["artificial_stress"]["epsilon"].get<double>();
   st.artificial_stress_exponent = sj["artificial_stress"]["exponent"].get<double>();
   st.implicit_tolerance = sj["implicit_viscosity"]["tolerance"].get<double>();
@@ -123,7 +128,7 @@ sph::Setup build_sph_setup(const Ctx& c, json& doc, const SceneParts& parts) {
     setup.bodies.push_back(std::move(body));
   }
   sph::Settings& st = setup.settings;
-  st = build_settings(doc);
+  st = build_settings(c, doc);
   // About 1.5 kB a particle with its neighbour lists (about 40 pairs of index,
   // distance and kernel values) and per-step scratch.
   double points = 0;

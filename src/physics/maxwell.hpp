@@ -38,14 +38,38 @@ inline Mat3 maxwell_stress_rate(const Mat3& stress, const Mat3& velocity_gradien
 // (exponential integrator; the forcing R + μ_e D' is held over the step):
 //   S(t+dt) = e^{−dt/λ} S + λ (1 − e^{−dt/λ}) (R + μ_e D').
 // Exact for pure relaxation (S decays as e^{−t/λ}) and stable for any dt/λ.
+// λ(1 − e^{−dt/λ}): the weight of the forcing over one step (→ dt for λ ≫ dt),
+// written as dt · (1 − e^{−x})/x to stay accurate for small x.
+inline Real maxwell_forcing_weight(Real relaxation_time, Real dt) {
+  const Real x = dt / relaxation_time;
+  return x > 1e-8 ? -std::expm1(-x) / x * dt : dt;
+}
+
 inline Mat3 maxwell_stress_step(const Mat3& stress, const Mat3& velocity_gradient, Real elasticity,
                                 Real relaxation_time, Real dt) {
   const MaxwellRates r = maxwell_rates(stress, velocity_gradient);
-  const Real x = dt / relaxation_time;
-  const Real decay = std::exp(-x);
-  // λ(1 − e^{−x}) = dt · (1 − e^{−x})/x, written to stay accurate for small x.
-  const Real weight = x > 1e-8 ? -std::expm1(-x) / x * dt : dt;
-  return decay * stress + weight * (r.rotation + elasticity * r.strain_rate_deviator);
+  const Real decay = std::exp(-dt / relaxation_time);
+  return decay * stress +
+         maxwell_forcing_weight(relaxation_time, dt) * (r.rotation + elasticity * r.strain_rate_deviator);
+}
+
+// The same step split for a semi-implicit integration (solver.sph.elasticity_solver
+// implicit): the relaxation e^{−dt/λ} S is taken before the velocity solve,
+// the forcing w (R + μ_e D') after it, with the velocity gradient of the
+// solved velocities (maxwell_forcing_step). In the solve the elastic part of
+// that forcing acts as a viscous stress 2 η D' with η = w μ_e / 2
+// (maxwell_step_viscosity): backward Euler for the elastic shear waves, so
+// they no longer bound the step. The rotation R is then that of the relaxed
+// stress, a difference of order dt²/λ from maxwell_stress_step.
+inline Real maxwell_step_viscosity(Real elasticity, Real relaxation_time, Real dt) {
+  return 0.5 * maxwell_forcing_weight(relaxation_time, dt) * elasticity;
+}
+
+inline Mat3 maxwell_forcing_step(const Mat3& relaxed_stress, const Mat3& velocity_gradient, Real elasticity,
+                                 Real relaxation_time, Real dt) {
+  const MaxwellRates r = maxwell_rates(relaxed_stress, velocity_gradient);
+  return relaxed_stress +
+         maxwell_forcing_weight(relaxation_time, dt) * (r.rotation + elasticity * r.strain_rate_deviator);
 }
 
 }  // namespace bakesim

@@ -105,6 +105,10 @@ struct Settings {
   // stress of extensional flow (a yield-stress column stands); false: the
   // thesis's Laplacian (Eq 3.19).
   bool stress_viscosity = false;
+  // Semi-implicit Maxwell stress: its elastic increment is taken in the
+  // implicit viscosity solve (backward Euler), so set dough's shear waves do
+  // not bound the step; false: explicit (Eq 3.20–3.27 as the thesis has them).
+  bool implicit_elasticity = false;
   AdaptiveSmoothing adaptive;
   Real implicit_tolerance = 1e-6;  // relative residual of the implicit viscosity solve
   int implicit_max_iterations = 500;

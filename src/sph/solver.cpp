@@ -102,7 +102,8 @@ SphSolver::SphSolver(Setup setup)
       ncount_(particles_.add_int("neighbours")),
       anchor_(particles_.add_vector("neighbour_anchor", "m", false)),
       anchor_support_(particles_.add_scalar("neighbour_anchor_support", "m", false)),
-      fill_radius_(particles_.add_scalar("open_space_radius", "m", false)) {
+      fill_radius_(particles_.add_scalar("open_space_radius", "m", false)),
+      viscous_change_(particles_.add_vector("viscous_velocity_change", "m/s", false)) {
   const Settings& s = setup_.settings;
   if (setup_.materials.empty()) throw InputError("materials", "no materials defined");
   for (const Material& m : setup_.materials) {
@@ -121,7 +122,8 @@ SphSolver::SphSolver(Setup setup)
                                                  : tait_b_.at(std::clamp<int>(b.material, 0, int(tait_b_.size()) - 1)));
   // Implicit viscosity when the explicit viscous bound would be tighter than
   // the CFL bound at the largest viscosity any material reaches.
-  implicit_viscosity_ = s.viscosity_solver == ViscositySolver::implicit || s.stress_viscosity;
+  implicit_elasticity_ = s.implicit_elasticity && elastic_;
+  implicit_viscosity_ = s.viscosity_solver == ViscositySolver::implicit || s.stress_viscosity || implicit_elasticity_;
   if (s.viscosity_solver == ViscositySolver::automatic) {
     const Real hs = 0.5 * h_;
     Real nu = 0;
@@ -133,8 +135,8 @@ SphSolver::SphSolver(Setup setup)
                  .viscosity_at_rest();
       nu = std::max(nu, mu / m.rest_density);
     }
-    implicit_viscosity_ =
-        s.stress_viscosity || (nu > 0 && s.viscous_factor * hs * hs / nu < s.cfl * hs / s.speed_of_sound);
+    implicit_viscosity_ = s.stress_viscosity || implicit_elasticity_ ||
+                          (nu > 0 && s.viscous_factor * hs * hs / nu < s.cfl * hs / s.speed_of_sound);
   }
   // Domain walls come first, then analytic colliders; meshes are separate.
   periodicity_ = setup_.periodicity();
@@ -402,7 +404,8 @@ SphSolver::StepBounds SphSolver::time_step_bounds() const {
   bounds.add("max_dt", s.max_dt);
   bounds.add("cfl", s.cfl * hs / (s.speed_of_sound + std::sqrt(e.v2)));
   // Shear waves of the Maxwell stress travel at sqrt(μ_e/ρ).
-  if (e.shear > 0) bounds.add("elastic", s.cfl * hs / std::sqrt(e.shear));
+  // (Solved implicitly, they bound nothing: backward Euler damps them instead.)
+  if (e.shear > 0 && !implicit_elasticity_) bounds.add("elastic", s.cfl * hs / std::sqrt(e.shear));
   if (e.nu > 0 && !implicit_viscosity_) bounds.add("viscosity", s.viscous_factor * hs * hs / e.nu);
   if (e.a2 > 0) bounds.add("force", s.force_factor * std::sqrt(hs / std::sqrt(e.a2)));
   if (s.heat_conduction) {
@@ -472,6 +475,7 @@ void SphSolver::step(Real dt) {
   phase_kick(dt);
   phase_xsph();
   phase_viscosity(dt);
+  phase_stress_increment(dt);
   phase_heat(dt);
   if (moist_) phase_water(dt);
   phase_browning(dt);

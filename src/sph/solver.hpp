@@ -89,6 +89,7 @@ class SphSolver final : public Solver {
   long steps() const { return steps_; }
   Real bake_time() const { return setup_.oven.bake_time(time_); }
   bool implicit_viscosity() const { return implicit_viscosity_; }
+  bool implicit_elasticity() const { return implicit_elasticity_; }
   int last_viscosity_iterations() const { return viscosity_iterations_; }
   // Heat that entered through the surface (air and colliders) since the start, J.
   Real exchanged_heat() const { return exchanged_heat_; }
@@ -113,6 +114,7 @@ class SphSolver final : public Solver {
   void phase_density();
   void phase_surface();
   void phase_stress(Real dt);
+  void phase_stress_increment(Real dt);  // implicit elasticity: w (R + μ_e D') of the solved velocities
   void phase_pressure();
   void phase_forces();
   void compute_wall_drag();
@@ -122,7 +124,11 @@ class SphSolver final : public Solver {
   void phase_xsph();
   void phase_viscosity(Real dt);
   void solve_stress_viscosity(Real dt, const std::vector<Real>& diag);  // phase_viscosity, stress form
+  void start_viscous_guess();         // v ← v* + the last solve's change (viscosity_start_ ← v*)
+  void keep_viscous_change();         // viscous_change_ ← v − v*
   Vec3 build_viscosity_rhs(Real dt);  // the implicit viscosity's M v*; returns its |b|² per component
+  // The viscosity the implicit solve uses: μ, plus the step's elastic viscosity when elasticity is implicit.
+  const std::vector<Real>& viscosity_in_solve() const { return implicit_elasticity_ ? solve_viscosity_ : mu_; }
   void phase_heat(Real dt);
   void update_laplacian_moments();  // laplacian_moment_ from this step's neighbours
   // The corrected Laplacian's factor for pair (i, j), 2/(a_i + a_j) (heat and water phases).
@@ -205,14 +211,15 @@ class SphSolver final : public Solver {
   std::vector<Real> conductivity_;     // per material, read per neighbour pair in the heat phase
   std::vector<Real> bubble_b_;         // per body: B of Eq 3.48
   bool implicit_viscosity_ = false;
-  bool elastic_ = false;           // some material has a Maxwell stress (μ_e not identically 0)
-  bool heated_colliders_ = false;  // some collider carries a temperature
-  bool follows_peak_ = false;      // some material reads its curves at the peak temperature
-  bool adaptive_ = false;          // per-particle smoothing length (Eq 3.54–3.56)
-  bool no_slip_walls_ = false;     // some analytic collider is sticky: walls add viscous stress
-  Periodicity periodicity_;        // periodic axes of the domain (geometry/periodic.hpp)
-  bool periodic_ = false;          // some axis is periodic
-  Real colour_share_ = 1;          // V |∇C| / s² on a flat lattice face (kernels.hpp): exchange areas
+  bool elastic_ = false;              // some material has a Maxwell stress (μ_e not identically 0)
+  bool implicit_elasticity_ = false;  // its elastic increment is solved with the implicit viscosity
+  bool heated_colliders_ = false;     // some collider carries a temperature
+  bool follows_peak_ = false;         // some material reads its curves at the peak temperature
+  bool adaptive_ = false;             // per-particle smoothing length (Eq 3.54–3.56)
+  bool no_slip_walls_ = false;        // some analytic collider is sticky: walls add viscous stress
+  Periodicity periodicity_;           // periodic axes of the domain (geometry/periodic.hpp)
+  bool periodic_ = false;             // some axis is periodic
+  Real colour_share_ = 1;             // V |∇C| / s² on a flat lattice face (kernels.hpp): exchange areas
   ColliderTemperatures wall_temperatures_, mesh_temperatures_;  // at this step's bake time (heat phase)
   int viscosity_iterations_ = 0;
   Real exchanged_heat_ = 0.0;
@@ -269,6 +276,9 @@ class SphSolver final : public Solver {
   // open-space grid built on the anchors then (surface phase); in the registry
   // so that a resumed run rebuilds the same grid.
   std::vector<Real>& fill_radius_;
+  // v − v* of the last implicit viscosity solve, its next start (in the
+  // registry: it follows sorts and checkpoints).
+  std::vector<Vec3>& viscous_change_;
   std::vector<std::uint32_t> order_;
   // Per-step scratch, valid only within the phases that fill them (not in
   // the registry, so sorting does not move them).
@@ -287,8 +297,12 @@ class SphSolver final : public Solver {
   // Σ S(d) over the sticky walls within h, and Σ S(d) v_wall (wall_viscosity_).
   std::vector<Real> wall_drag_;
   std::vector<Vec3> wall_drag_velocity_;
-  std::vector<double> pair_visc_;              // implicit viscosity weights, layout of lists_
+  std::vector<double> pair_visc_;  // implicit viscosity weights, layout of lists_
+  // Implicit elasticity (stress phase → viscosity phase): μ plus the step's
+  // elastic viscosity w μ_e / 2, the viscosity the implicit solve uses.
+  std::vector<Real> solve_viscosity_;
   std::vector<Vec3> viscosity_rhs_;            // M v* of the implicit viscosity solve
+  std::vector<Vec3> viscosity_start_;          // v* (the velocities before the solve)
   PcgScratch<Vec3> viscosity_pcg_;             // its conjugate-gradient vectors
   std::vector<Mat3> correction_;               // stress-form viscosity: C_i = M_i^{−T}
   std::vector<Mat3> stress_times_correction_;  // S_i C_i of the current iterate

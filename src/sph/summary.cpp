@@ -12,6 +12,9 @@ std::string SphSolver::summary() const {
                      st.spacing * st.smoothing_ratio, st.speed_of_sound, to_string(st.search));
   out += fmt::format("viscosity  {} (setting: {})\n", implicit_viscosity() ? "implicit" : "explicit",
                      to_string(st.viscosity_solver));
+  if (elastic_)
+    out += fmt::format("elasticity {} (Maxwell stress; setting: {})\n", implicit_elasticity_ ? "implicit" : "explicit",
+                       st.implicit_elasticity ? "implicit" : "explicit");
   out += fmt::format("surface    {} test\n", to_string(st.surface_method));
   if (periodic_) out += fmt::format("periodic   along {} (no walls on those faces)\n", periodicity_.describe());
   for (const Material& m : setup_.materials)

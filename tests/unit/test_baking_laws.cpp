@@ -50,6 +50,27 @@ TEST(MaxwellStress, PureExtensionApproachesViscousLimit) {
   }
 }
 
+TEST(MaxwellStress, SemiImplicitSplitMatchesTheExplicitStep) {
+  // The relaxation before the solve and the forcing after it, at the same
+  // velocity gradient: the explicit step, but for the rotation of the relaxed
+  // stress instead of the old one (w R(S)(1 − e^{−dt/λ}), order dt²/λ).
+  Mat3 s, l;
+  s << 100, 30, -20, 30, -50, 10, -20, 10, 40;
+  l << 0.3, -1.2, 0.5, 0.7, -0.1, 0.2, -0.4, 0.9, 0.6;
+  const Real mu_e = 5e4;
+  for (const Real lambda : {1e9, 0.7, 1e-3})
+    for (const Real dt : {1e-5, 1e-3}) {
+      const Real decay = std::exp(-dt / lambda);
+      const Mat3 split = maxwell_forcing_step(decay * s, l, mu_e, lambda, dt);
+      const Mat3 rotation = maxwell_rates(s, l).rotation;
+      const Mat3 expected =
+          maxwell_stress_step(s, l, mu_e, lambda, dt) - maxwell_forcing_weight(lambda, dt) * (1 - decay) * rotation;
+      EXPECT_LT((split - expected).norm(), 1e-12 * (s.norm() + mu_e * dt)) << "lambda " << lambda << " dt " << dt;
+    }
+  // Far below λ the step's viscosity is μ_e dt / 2 (the increment μ_e dt D' is 2 η D').
+  EXPECT_NEAR(maxwell_step_viscosity(mu_e, 1e9, 1e-4), 0.5 * mu_e * 1e-4, 1e-12);
+}
+
 TEST(MaxwellStress, DeviatorIsTracelessAndExpansionMakesNoStress) {
   // Uniform expansion (a rising dough) has no deviatoric strain rate.
   const MaxwellRates r = maxwell_rates(Mat3::Zero(), 0.4 * Mat3::Identity());

@@ -899,7 +899,21 @@ TEST(Scene, SphStressViscosityIsImplicit) {
   const Scene s = parse_scene(doc.dump(), "scene.json", ".");
   EXPECT_TRUE(s.sph.settings.stress_viscosity);
   doc["solver"]["sph"]["viscosity_solver"] = "explicit";
-  expect_error(doc, {"solver.sph.viscosity_operator", "implicit"});
+  expect_error(doc, {"scene.json: solver.sph.viscosity_operator", "implicit"});
   json plain = base_scene();
   EXPECT_FALSE(parse_scene(plain.dump(), "scene.json", ".").sph.settings.stress_viscosity);
+}
+
+// Implicit elasticity rides on the implicit viscosity solve: explicit
+// viscosity with it is an error naming the key; the default is explicit.
+TEST(Scene, SphImplicitElasticityNeedsTheImplicitViscositySolve) {
+  json doc = base_scene();
+  EXPECT_FALSE(parse_scene(doc.dump(), "scene.json", ".").sph.settings.implicit_elasticity);
+  doc["solver"]["sph"]["elasticity_solver"] = "implicit";
+  EXPECT_TRUE(parse_scene(doc.dump(), "scene.json", ".").sph.settings.implicit_elasticity);
+  doc["solver"]["sph"]["viscosity_solver"] = "explicit";
+  expect_error(doc, {"scene.json: solver.sph.elasticity_solver", "viscosity_solver"});
+  doc["solver"]["sph"]["viscosity_solver"] = "auto";
+  doc["solver"]["sph"]["elasticity_solver"] = "sometimes";
+  expect_error(doc, {"solver.sph.elasticity_solver"});
 }

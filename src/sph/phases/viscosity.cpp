@@ -1,6 +1,9 @@
 // Implicit viscosity: the viscous term of Eq 3.19 integrated by backward
 // Euler, so that doughs of 10³–10⁴ Pa·s (thesis Table 4.1) do not force the
-// explicit viscous time step (h²/ν, ~10⁻⁷ s) on the whole bake.
+// explicit viscous time step (h²/ν, ~10⁻⁷ s) on the whole bake. With implicit
+// elasticity the solve's viscosity is μ plus the step's elastic viscosity
+// w μ_e / 2 (phase stress), which makes the Maxwell stress's elastic
+// increment backward Euler too.
 //
 // Multiplying Eq 3.19 by m_i gives a symmetric graph Laplacian:
 //   m_i dv_i/dt = Σ_j w_ij (v_j − v_i),  w_ij = μ̄_ij V_i V_j ∇²W_visc(r_ij) ≥ 0,
@@ -46,6 +49,7 @@ void SphSolver::phase_viscosity(Real dt) {
   const Real visc_c = visc_lap_.coefficient();
   resize_with_headroom(pair_visc_, n * stride);
   std::vector<Real>& diag = dtemp_;  // free until the heat phase
+  const std::vector<Real>& mu = viscosity_in_solve();
   // Weights dt·w_ij and the preconditioner diagonal m_i + dt Σ_j w_ij.
   parallel_for(n, [&](std::size_t i) {
     const std::uint32_t* nb = lists_.begin(i);
@@ -58,10 +62,10 @@ void SphSolver::phase_viscosity(Real dt) {
       const std::uint32_t j = nb[k];
       const Real hij = adaptive_ ? 0.5 * (smoothing_[i] + smoothing_[j]) : h_;  // Eq 3.56
       const Real vc = adaptive_ ? visc_lap_.coefficient_for(hij) : visc_c;
-      w[k] = dt * 0.5 * (mu_[i] + mu_[j]) * vi * (m_[j] / rho_[j]) * vc * (hij - Real(pr[k]));
+      w[k] = dt * 0.5 * (mu[i] + mu[j]) * vi * (m_[j] / rho_[j]) * vc * (hij - Real(pr[k]));
       d += w[k];
     }
-    if (no_slip_walls_) d += dt * mu_[i] * vi * wall_drag_[i];  // the wall's row entry (v_wall on the right)
+    if (no_slip_walls_) d += dt * mu[i] * vi * wall_drag_[i];  // the wall's row entry (v_wall on the right)
     diag[i] = d;
   });
   if (setup_.settings.stress_viscosity) {
@@ -74,7 +78,7 @@ void SphSolver::phase_viscosity(Real dt) {
       const std::uint32_t count = lists_.count(i);
       const double* w = pair_visc_.data() + i * stride;
       Vec3 acc = m_[i] * in[i];
-      if (no_slip_walls_) acc += (dt * mu_[i] * (m_[i] / rho_[i]) * wall_drag_[i]) * in[i];
+      if (no_slip_walls_) acc += (dt * mu[i] * (m_[i] / rho_[i]) * wall_drag_[i]) * in[i];
       for (std::uint32_t k = 0; k < count; ++k) acc += w[k] * (in[i] - in[nb[k]]);
       out[i] = acc;
     });
@@ -82,28 +86,31 @@ void SphSolver::phase_viscosity(Real dt) {
   const Vec3 b_norm2 = build_viscosity_rhs(dt);
   const Real tol = setup_.settings.implicit_tolerance;
   const Vec3 stop = (tol * tol) * b_norm2;
+  start_viscous_guess();
   const PcgResult<Vec3> result = solve_pcg<Vec3>(
       n, apply, [](std::size_t) { return true; }, diag, viscosity_rhs_, v_, stop,
       setup_.settings.implicit_max_iterations, viscosity_pcg_);
   viscosity_iterations_ = result.iterations;
+  keep_viscous_change();
   require_acceptable(
       result, b_norm2, [&] { return fmt::format("SPH step {} (t = {:.6g} s): implicit viscosity", steps_, time_); },
       "solver.sph.implicit_viscosity.max_iterations");
 }
 
 // b = M v* (plus the no-slip walls' v_wall terms); the solve starts from v*
-// (r = −dt K v*). Returns |b|² per component for the stopping test: the
+// plus the last solve's change (start_viscous_guess). Returns |b|² per component for the stopping test: the
 // momentum M v* plus the momentum one step of gravity adds (m g dt per
 // particle), so a body nearly at rest does not demand a solve far below what
 // its next step changes anyway.
 Vec3 SphSolver::build_viscosity_rhs(Real dt) {
   const std::size_t n = x_.size();
+  const std::vector<Real>& mu = viscosity_in_solve();
   viscosity_rhs_.resize(n);
   parallel_for(
       n,
       [&](std::size_t i) {
         viscosity_rhs_[i] = m_[i] * v_[i];
-        if (no_slip_walls_) viscosity_rhs_[i] += dt * mu_[i] * (m_[i] / rho_[i]) * wall_drag_velocity_[i];
+        if (no_slip_walls_) viscosity_rhs_[i] += dt * mu[i] * (m_[i] / rho_[i]) * wall_drag_velocity_[i];
       },
       4096);
   const Real floor_v = std::max(setup_.gravity.norm(), 1.0) * dt;
@@ -112,9 +119,29 @@ Vec3 SphSolver::build_viscosity_rhs(Real dt) {
   });
 }
 
+// The solve starts from v* plus the change the last solve made (kept per
+// particle in the registry, so it follows sorts and checkpoints): in a bake
+// the viscous and elastic correction changes slowly from step to step.
+void SphSolver::start_viscous_guess() {
+  viscosity_start_.resize(x_.size());
+  parallel_for(
+      x_.size(),
+      [&](std::size_t i) {
+        viscosity_start_[i] = v_[i];
+        v_[i] += viscous_change_[i];
+      },
+      4096);
+}
+
+void SphSolver::keep_viscous_change() {
+  parallel_for(
+      x_.size(), [&](std::size_t i) { viscous_change_[i] = v_[i] - viscosity_start_[i]; }, 4096);
+}
+
 void SphSolver::solve_stress_viscosity(Real dt, const std::vector<Real>& diag) {
   const std::size_t n = x_.size();
   const std::size_t stride = lists_.stride();
+  const std::vector<Real>& mu = viscosity_in_solve();
   correction_.resize(n);
   stress_times_correction_.resize(n);
   resize_with_headroom(pair_volume_gradient_, n * stride);
@@ -148,7 +175,7 @@ void SphSolver::solve_stress_viscosity(Real dt, const std::vector<Real>& diag) {
       for (std::uint32_t k = 0; k < count; ++k) grad += (in[nb[k]] - in[i]) * g[k].transpose();
       grad = grad * correction_[i].transpose();  // L_i = Σ V_j (v_j − v_i) (C_i ∇W)ᵀ
       const Mat3 d = 0.5 * (grad + grad.transpose());
-      const Mat3 s = 2 * mu_[i] * (d - (d.trace() / 3) * Mat3::Identity());
+      const Mat3 s = 2 * mu[i] * (d - (d.trace() / 3) * Mat3::Identity());
       stress_times_correction_[i] = s * correction_[i];
     });
     parallel_for(n, [&](std::size_t k) {
@@ -160,13 +187,18 @@ void SphSolver::solve_stress_viscosity(Real dt, const std::vector<Real>& diag) {
       for (std::uint32_t q = 0; q < count; ++q)
         force += (stress_times_correction_[k] + stress_times_correction_[nb[q]]) * g[q];
       Vec3 acc = m_[k] * in[k] - dt * vk * force;
-      if (no_slip_walls_) acc += (dt * mu_[k] * vk * wall_drag_[k]) * in[k];
+      if (no_slip_walls_) acc += (dt * mu[k] * vk * wall_drag_[k]) * in[k];
       out[k] = acc;
     });
   };
   const Vec3 b_norm2 = Vec3::Constant(build_viscosity_rhs(dt).sum());  // one system: the components summed
   const Real tol = setup_.settings.implicit_tolerance;
   const Vec3 stop = (tol * tol) * b_norm2;
+  // Started from v* (not warm): the stress form conserves angular momentum,
+  // and a warm start's last change, stopped within the tolerance, would
+  // leave the same small error every step (a spinning ball's change turns
+  // with it), which adds up (3.5e-5 of L in StressViscosity.ARigidly... over
+  // 0.05 s, where the cold start keeps 1e-6).
   const PcgResult<Vec3> result = solve_pcg<Vec3, true>(
       n, apply, [](std::size_t) { return true; }, diag, viscosity_rhs_, v_, stop,
       setup_.settings.implicit_max_iterations, viscosity_pcg_);
