@@ -173,6 +173,12 @@ void for_each_wall(const ColliderGeometry& g, const Vec3& p, Real range, Fn&& fn
                    const Real t = cont.wall_thickness + range;
                    if ((p.array() < cont.inner.min.array() - t).any() || (p.array() > cont.inner.max.array() + t).any())
                      return;
+                   // And inside, farther than range from the floor and the four sides (at any height: the
+                   // slabs lie below the floor and beyond the sides), where most of a tin's dough is.
+                   if (p.y() > cont.inner.min.y() + range && p.x() > cont.inner.min.x() + range &&
+                       p.x() < cont.inner.max.x() - range && p.z() > cont.inner.min.z() + range &&
+                       p.z() < cont.inner.max.z() - range)
+                     return;
                    for (const Aabb& s : cont.slabs()) {
                      const WallContact c = box_contact(s, p);
                      if (c.distance < range) fn(c);

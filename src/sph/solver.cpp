@@ -354,7 +354,9 @@ void SphSolver::set_stress(std::size_t i, const Mat3& s) {
 }
 
 // Eq 3.27: ∂v_a/∂x_b = Σ_j V_j (v_j − v_i)_a (∇_i W_ij)_b.
-Mat3 SphSolver::velocity_gradient(std::size_t i) const {
+Mat3 SphSolver::velocity_gradient(std::size_t i) const { return velocity_gradient(i, nullptr); }
+
+Mat3 SphSolver::velocity_gradient(std::size_t i, const Real* volume) const {
   Mat3 grad = Mat3::Zero();
   const std::uint32_t* nb = lists_.begin(i);
   const std::uint32_t count = lists_.count(i);
@@ -362,7 +364,7 @@ Mat3 SphSolver::velocity_gradient(std::size_t i) const {
   for (std::uint32_t k = 0; k < count; ++k) {
     const std::uint32_t j = nb[k];
     const Vec3 gw = Real(pd[k]) * pair_offset(i, j);
-    grad += (m_[j] / rho_[j]) * (v_[j] - v_[i]) * gw.transpose();
+    grad += (volume ? volume[j] : m_[j] / rho_[j]) * (v_[j] - v_[i]) * gw.transpose();
   }
   // No-slip walls: their ghosts' share (WallGhostSum), so a particle beside
   // the wall sees the whole shear and not half of it.

@@ -98,6 +98,8 @@ class SphSolver final : public Solver {
   void set_stress(std::size_t i, const Mat3& s);
   // Velocity gradient L_ab = ∂v_a/∂x_b at particle i (Eq 3.27).
   Mat3 velocity_gradient(std::size_t i) const;
+  // The same with the volumes m/ρ of this step given (the pressure phase's volume_), or nullptr.
+  Mat3 velocity_gradient(std::size_t i, const Real* volume) const;
   std::size_t body_particle_count(std::size_t body) const { return body_counts_.at(body); }
 
   // Recomputes neighbours, density, pressure and accelerations for the current

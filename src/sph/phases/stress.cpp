@@ -40,6 +40,7 @@ void SphSolver::phase_stress(Real dt) {
       256);
 }
 
+// The densities have not changed since the pressure phase: its volumes m/ρ serve.
 void SphSolver::phase_stress_increment(Real dt) {
   if (!implicit_elasticity_) return;
   ScopedPhase t(timers_, t_stress_);
@@ -47,7 +48,8 @@ void SphSolver::phase_stress_increment(Real dt) {
       x_.size(),
       [&](std::size_t i) {
         if (elasticity_[i] == 0.0 && stress_diag_[i].isZero() && stress_off_[i].isZero()) return;
-        set_stress(i, maxwell_forcing_step(stress(i), velocity_gradient(i), elasticity_[i], relaxation_[i], dt));
+        set_stress(i, maxwell_forcing_step(stress(i), velocity_gradient(i, volume_.data()), elasticity_[i],
+                                           relaxation_[i], dt));
       },
       256);
 }

@@ -50,7 +50,8 @@ void SphSolver::phase_viscosity(Real dt) {
   resize_with_headroom(pair_visc_, n * stride);
   std::vector<Real>& diag = dtemp_;  // free until the heat phase
   const std::vector<Real>& mu = viscosity_in_solve();
-  // Weights dt·w_ij and the preconditioner diagonal m_i + dt Σ_j w_ij.
+  // Weights dt·w_ij and the preconditioner diagonal m_i + dt Σ_j w_ij (the
+  // volumes m/ρ of the pressure phase: the densities have not changed since).
   parallel_for(n, [&](std::size_t i) {
     const std::uint32_t* nb = lists_.begin(i);
     const std::uint32_t count = lists_.count(i);
@@ -62,7 +63,7 @@ void SphSolver::phase_viscosity(Real dt) {
       const std::uint32_t j = nb[k];
       const Real hij = adaptive_ ? 0.5 * (smoothing_[i] + smoothing_[j]) : h_;  // Eq 3.56
       const Real vc = adaptive_ ? visc_lap_.coefficient_for(hij) : visc_c;
-      w[k] = dt * 0.5 * (mu[i] + mu[j]) * vi * (m_[j] / rho_[j]) * vc * (hij - Real(pr[k]));
+      w[k] = dt * 0.5 * (mu[i] + mu[j]) * vi * volume_[j] * vc * (hij - Real(pr[k]));
       d += w[k];
     }
     if (no_slip_walls_) d += dt * mu[i] * vi * wall_drag_[i];  // the wall's row entry (v_wall on the right)
@@ -157,7 +158,7 @@ void SphSolver::solve_stress_viscosity(Real dt, const std::vector<Real>& diag) {
     for (std::uint32_t k = 0; k < count; ++k) {
       const std::uint32_t j = nb[k];
       const Vec3 xij = pair_offset(i, j);
-      g[k] = (m_[j] / rho_[j]) * (Real(pd[k]) * xij);
+      g[k] = volume_[j] * (Real(pd[k]) * xij);
       m -= xij * g[k].transpose();
     }
     Mat3 inverse;
