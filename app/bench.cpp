@@ -4,7 +4,9 @@
 #include <tbb/global_control.h>
 #include <tbb/info.h>
 
+#include <algorithm>
 #include <cmath>
+#include <map>
 
 #include "core/errors.hpp"
 #include "core/timers.hpp"
@@ -13,6 +15,46 @@
 
 namespace bakesim {
 
+namespace {
+
+// A scene's whole run (a bake) per thread count: wall time, steps, particle-steps
+// per second, the steps each time-step bound limited, and the time per phase.
+int run_scene_bench(const BenchOptions& opt, const std::vector<int>& threads, int hw) {
+  std::vector<SceneOverride> overrides;
+  for (const std::string& s : opt.sets) overrides.push_back(parse_override(s));
+  load_scene(opt.scene, overrides, opt.preview);  // a bad scene is refused before the header
+  fmt::print("bakesim bench: {}{}, machine has {} hardware threads\n", opt.scene, opt.preview ? " (preview)" : "", hw);
+  for (int t : threads) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(t));
+    Scene scene = load_scene(opt.scene, overrides, opt.preview);
+    if (opt.end_time > 0) set_end_time(scene, opt.end_time);
+    auto solver = make_solver(scene);
+    std::map<std::string, long> bounds;  // steps limited by each bound
+    long steps = 0;
+    Stopwatch clock;
+    while (solver->time() < scene.end_time - 1e-12) {
+      const Real dt = std::min(solver->max_stable_dt(), scene.end_time - solver->time());
+      ++bounds[solver->active_dt_bound()];
+      solver->step(dt);
+      ++steps;
+    }
+    const double secs = clock.seconds();
+    fmt::print(
+        "{} particles, {} threads: {:.6g} s simulated in {} steps, {:.2f} s wall ({:.2f} s per simulated "
+        "second), {:.0f} particle-steps/s, {:.2f} ms/step\n",
+        solver->particles().size(), t, solver->time(), steps, secs, secs / solver->time(),
+        double(solver->particles().size()) * steps / secs, 1e3 * secs / steps);
+    std::string limits;
+    for (const auto& [name, count] : bounds) limits += fmt::format(" {} {:.1f}%", name, 100.0 * count / steps);
+    fmt::print("steps limited by:{}\n", limits);
+    if (opt.phases) fmt::print("{}", solver->timers().report(steps));
+    std::fflush(stdout);
+  }
+  return 0;
+}
+
+}  // namespace
+
 int run_bench(const BenchOptions& opt) {
   const int hw = static_cast<int>(tbb::info::default_concurrency());
   std::vector<int> threads = opt.threads;
@@ -20,6 +62,7 @@ int run_bench(const BenchOptions& opt) {
     threads.push_back(1);
     if (hw > 1) threads.push_back(hw);
   }
+  if (!opt.scene.empty()) return run_scene_bench(opt, threads, hw);
   const bool mpm = opt.solver == "mpm";
   if (!mpm && opt.solver != "sph") throw InputError("bench --solver", "unknown solver '" + opt.solver + "' (sph, mpm)");
   fmt::print("bakesim bench: {}, {} steps per case, machine has {} hardware threads\n",

@@ -65,6 +65,17 @@ printf 'v 0 0 0\nv 0.1 0 0\nv 0 nan 0\nv 0 0 0.1\nf 1 2 3\nf 1 3 4\nf 1 4 2\nf 2
 sed 's/no-such-bunny.obj/nan.obj/' "$DATA/missing_mesh.json" > "$OUT/nan-obj.json"
 expect 2 'meshes/nan.obj:3: vertex coordinate .nan. is not a finite number' -- "$BAKESIM" validate "$OUT/nan-obj.json"
 expect 2 'bench --particles: expects comma-separated positive whole numbers' -- "$BAKESIM" bench --particles 12x
+expect 2 'bench: --set, --preview and --end-time time a scene: give it with --scene' -- "$BAKESIM" bench --set time.end=1
+expect 2 'no-such-scene.json: scene file not found' -- "$BAKESIM" bench --scene "$DATA/no-such-scene.json"
+expect 2 'good_small.json: time.end' -- "$BAKESIM" bench --scene "$DATA/good_small.json" --set time.end=-1
+# A scene timed to its end: steps, the bounds that limited them, and the phases.
+bench_out="$("$BAKESIM" bench --scene "$DATA/good_small.json" --threads 1 2>&1)"
+if grep -Eq '^[0-9]+ particles, 1 threads: 0.02 s simulated in [0-9]+ steps' <<<"$bench_out" &&
+   grep -Eq '^steps limited by: .*%' <<<"$bench_out" && grep -Eq '^  density ' <<<"$bench_out"; then
+  echo "ok: bench --scene times the scene to its end"
+else
+  echo "FAIL: bench --scene: $bench_out"; fail=1
+fi
 sed 's/"solver"/"name": "loaf\\u001b[2J", "solver"/' "$DATA/good_small.json" > "$OUT/escape.json"
 expect 2 '^bakesim: error: .*escape.json: name: must not contain control characters' -- "$BAKESIM" validate "$OUT/escape.json"
 mkdir -p "$OUT/$(printf 'esc\033[2Jdir')"
