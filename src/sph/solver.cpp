@@ -122,6 +122,7 @@ SphSolver::SphSolver(Setup setup)
                                                  : tait_b_.at(std::clamp<int>(b.material, 0, int(tait_b_.size()) - 1)));
   // Implicit viscosity when the explicit viscous bound would be tighter than
   // the CFL bound at the largest viscosity any material reaches.
+  xsph_reference_step_ = s.cfl * 0.5 * h_ / s.speed_of_sound;
   implicit_elasticity_ = s.implicit_elasticity && elastic_;
   implicit_viscosity_ = s.viscosity_solver == ViscositySolver::implicit || s.stress_viscosity || implicit_elasticity_;
   if (s.viscosity_solver == ViscositySolver::automatic) {
@@ -475,7 +476,7 @@ void SphSolver::step(Real dt) {
   phase_pressure();
   phase_forces();
   phase_kick(dt);
-  phase_xsph();
+  phase_xsph(dt);
   phase_viscosity(dt);
   phase_stress_increment(dt);
   phase_heat(dt);

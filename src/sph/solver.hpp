@@ -123,7 +123,7 @@ class SphSolver final : public Solver {
   void phase_kick(Real dt);
   void phase_drift(Real dt);
   void phase_collide();
-  void phase_xsph();
+  void phase_xsph(Real dt);
   void phase_viscosity(Real dt);
   void solve_stress_viscosity(Real dt, const std::vector<Real>& diag);  // phase_viscosity, stress form
   void start_viscous_guess();         // v ← v* + the last solve's change (viscosity_start_ ← v*)
@@ -213,6 +213,7 @@ class SphSolver final : public Solver {
   std::vector<Real> conductivity_;     // per material, read per neighbour pair in the heat phase
   std::vector<Real> bubble_b_;         // per body: B of Eq 3.48
   bool implicit_viscosity_ = false;
+  Real xsph_reference_step_ = 1;      // s: the CFL bound at rest, cfl ħ / c, at which XSPH acts fully per step
   bool elastic_ = false;              // some material has a Maxwell stress (μ_e not identically 0)
   bool implicit_elasticity_ = false;  // its elastic increment is solved with the implicit viscosity
   bool heated_colliders_ = false;     // some collider carries a temperature

@@ -134,3 +134,42 @@ TEST(ElasticShearWave, ImplicitBeyondTheElasticBoundFollowsItsSchemesAmplificati
     EXPECT_LT(amplitude, 1.0);
   }
 }
+
+// XSPH (Eq 3.34) smooths a shear wave by the same amount per second whatever
+// the step: the thesis's once-per-step correction is scaled by dt over the CFL
+// bound at rest (docs/physics.md, "XSPH"). Applied once per step unscaled, a
+// quarter of the step would smooth four times as much over the same time.
+TEST(Xsph, SmoothsAShearWaveAtTheSameRatePerSecondWhateverTheStep) {
+  const double s = kWaveSpacing, lambda = kWaveLength * s, w = 6 * s, c = 0.01, k = 2 * kPi / lambda;
+  const double reference_step = 0.4 * s / c;  // cfl ħ / c with ħ = h/2 = s
+  auto decay = [&](int substeps) {
+    const json scene = {
+        {"solver", {{"type", "sph"}, {"sph", {{"spacing", s}, {"speed_of_sound", c}}}}},
+        {"time", {{"end", 1.0}}},
+        {"gravity", {0, 0, 0}},
+        {"domain", {{"min", {0, 0, 0}}, {"max", {w, lambda, w}}, {"periodic", {"x", "y", "z"}}}},
+        {"materials", {{"fluid", {{"density", 1000.0}, {"viscosity", 0.0}, {"xsph", 0.5}}}}},
+        {"bodies", json::array({{{"name", "fluid"},
+                                 {"material", "fluid"},
+                                 {"shape", {{"type", "box"}, {"min", {0, 0, 0}}, {"max", {w, lambda, w}}}}}})}};
+    auto sph = test_support::make_sph(scene);
+    auto& ps = sph->mutable_particles();
+    for (std::size_t i = 0; i < ps.size(); ++i)
+      ps.vector("velocity")[i] = Vec3(kWaveAmplitude * std::sin(k * ps.vector("position")[i].y()), 0, 0);
+    sph->refresh();
+    for (int n = 0; n < 10 * substeps; ++n) sph->step(reference_step / substeps);
+    const auto& x = sph->particles().vector("position");
+    const auto& v = sph->particles().vector("velocity");
+    double num = 0, den = 0;
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      num += v[i].x() * std::sin(k * x[i].y());
+      den += std::pow(std::sin(k * x[i].y()), 2);
+    }
+    return -std::log(num / den / kWaveAmplitude);  // e-foldings over 10 reference steps
+  };
+  const double full = decay(1), quarter = decay(4);
+  std::printf("XSPH over 10 reference steps: %.4f e-foldings at the reference step, %.4f at a quarter of it\n", full,
+              quarter);
+  EXPECT_GT(full, 0.05);  // it does smooth
+  EXPECT_NEAR(quarter / full, 1.0, 0.1);
+}

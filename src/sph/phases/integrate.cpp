@@ -2,6 +2,8 @@
 // correction (Eq 3.34).
 #include "sph/solver.hpp"
 
+#include <algorithm>
+
 #include "core/parallel.hpp"
 
 namespace bakesim::sph {
@@ -24,13 +26,18 @@ void SphSolver::phase_drift(Real dt) {
       4096);
 }
 
-// Eq 3.34 with the pairwise mean of ε (keeps the correction momentum-conserving).
-void SphSolver::phase_xsph() {
+// Eq 3.34 with the pairwise mean of ε (keeps the correction momentum-conserving),
+// scaled by dt / dt_ref (dt_ref the CFL bound at rest, capped at 1): the
+// thesis applies it once per step, so its smoothing per second grew with the
+// number of steps and a bake's rise, crust and weight loss changed with the
+// step (docs/physics.md, "XSPH"); at dt = dt_ref it is the thesis's.
+void SphSolver::phase_xsph(Real dt) {
   ScopedPhase t(timers_, t_xsph_);
   bool any = false;
   for (const Material& m : setup_.materials) any |= !is_constant(m.xsph) || std::get<ConstantCurve>(m.xsph).value > 0;
   if (!any) return;
   const Vec3* v = v_.data();
+  const Real share = std::min<Real>(1, dt / xsph_reference_step_);
   parallel_for(x_.size(), [&](std::size_t i) {
     Vec3 corr = Vec3::Zero();
     const Vec3 vi = v[i];
@@ -42,7 +49,7 @@ void SphSolver::phase_xsph() {
       const Real w = pw[k];
       corr += (0.5 * (eps_[i] + eps_[j]) * 2.0 * m_[j] / (rho_[i] + rho_[j]) * w) * (v[j] - vi);
     }
-    dv_[i] = corr;
+    dv_[i] = share * corr;
   });
   parallel_for(
       x_.size(), [&](std::size_t i) { v_[i] += dv_[i]; }, 4096);
