@@ -38,6 +38,42 @@ inline std::unique_ptr<sph::SphSolver> make_sph(const nlohmann::json& doc) {
   return std::make_unique<sph::SphSolver>(scene.sph);
 }
 
+// A fully periodic SPH box w × λ × w filled with one material (the shear-wave
+// tests): `sph_settings` are solver.sph's keys, `material` the material's.
+inline nlohmann::json periodic_box_scene(double w, double wavelength, const nlohmann::json& sph_settings,
+                                         const nlohmann::json& material, double max_dt = 1e-3) {
+  return {{"solver", {{"type", "sph"}, {"max_dt", max_dt}, {"sph", sph_settings}}},
+          {"time", {{"end", 1.0}}},
+          {"gravity", {0, 0, 0}},
+          {"domain", {{"min", {0, 0, 0}}, {"max", {w, wavelength, w}}, {"periodic", {"x", "y", "z"}}}},
+          {"materials", {{"fluid", material}}},
+          {"bodies",
+           nlohmann::json::array({{{"name", "fluid"},
+                                   {"material", "fluid"},
+                                   {"shape", {{"type", "box"}, {"min", {0, 0, 0}}, {"max", {w, wavelength, w}}}}}})}};
+}
+
+// v_x = A sin(k y) on every particle, then the solver's state refreshed.
+inline void start_shear_wave(sph::SphSolver& sph, double k, double amplitude) {
+  auto& ps = sph.mutable_particles();
+  for (std::size_t i = 0; i < ps.size(); ++i)
+    ps.vector("velocity")[i] = Vec3(amplitude * std::sin(k * ps.vector("position")[i].y()), 0, 0);
+  sph.refresh();
+}
+
+// The projection of v_x on sin(k y): the shear wave's amplitude.
+inline double shear_wave_amplitude(const sph::SphSolver& sph, double k) {
+  const auto& x = sph.particles().vector("position");
+  const auto& v = sph.particles().vector("velocity");
+  double num = 0, den = 0;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const double sn = std::sin(k * x[i].y());
+    num += v[i].x() * sn;
+    den += sn * sn;
+  }
+  return num / den;
+}
+
 inline std::unique_ptr<mpm::MpmSolver> make_mpm(const nlohmann::json& doc) {
   Scene scene = parse_scene(doc.dump(), "test-scene.json", ".");
   return std::make_unique<mpm::MpmSolver>(scene.mpm);

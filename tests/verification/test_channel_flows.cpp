@@ -233,33 +233,11 @@ TEST(ShearWave, DecaysAtTheViscousRateInAFullyPeriodicBox) {
   for (const int wavelength : {20, 40}) {
     const double nu = 1e-6, rho = 1000, s = 5e-5, lambda = wavelength * s, w = 6 * s;
     const double amplitude = 1e-5, k = 2 * kPi / lambda;
-    const json scene = {
-        {"solver",
-         {{"type", "sph"}, {"sph", {{"spacing", s}, {"speed_of_sound", 0.01}, {"viscosity_solver", "explicit"}}}}},
-        {"time", {{"end", 1.0}}},
-        {"gravity", {0, 0, 0}},
-        {"domain", {{"min", {0, 0, 0}}, {"max", {w, lambda, w}}, {"periodic", {"x", "y", "z"}}}},
-        {"materials", {{"fluid", {{"density", rho}, {"viscosity", nu * rho}}}}},
-        {"bodies", json::array({{{"name", "fluid"},
-                                 {"material", "fluid"},
-                                 {"shape", {{"type", "box"}, {"min", {0, 0, 0}}, {"max", {w, lambda, w}}}}}})}};
-    auto sph = test_support::make_sph(scene);
-    auto& ps = sph->mutable_particles();
-    for (std::size_t i = 0; i < ps.size(); ++i)
-      ps.vector("velocity")[i] = Vec3(amplitude * std::sin(k * ps.vector("position")[i].y()), 0, 0);
-    sph->refresh();
-    // The wave's amplitude: the projection of v_x on sin(k y).
-    auto measured = [&] {
-      const auto& x = sph->particles().vector("position");
-      const auto& v = sph->particles().vector("velocity");
-      double num = 0, den = 0;
-      for (std::size_t i = 0; i < x.size(); ++i) {
-        const double sn = std::sin(k * x[i].y());
-        num += v[i].x() * sn;
-        den += sn * sn;
-      }
-      return num / den;
-    };
+    auto sph = test_support::make_sph(test_support::periodic_box_scene(
+        w, lambda, {{"spacing", s}, {"speed_of_sound", 0.01}, {"viscosity_solver", "explicit"}},
+        {{"density", rho}, {"viscosity", nu * rho}}));
+    test_support::start_shear_wave(*sph, k, amplitude);
+    auto measured = [&] { return test_support::shear_wave_amplitude(*sph, k); };
     const double t_end = 1.0 / (nu * k * k);  // one e-folding
     test_support::advance_to(*sph, t_end);
     const double rate = -std::log(measured() / amplitude) / t_end, exact = nu * k * k;

@@ -26,21 +26,11 @@ constexpr int kWaveLength = 20;                                                 
 constexpr double kWaveAmplitude = 1e-5;                                             // m/s: linear
 
 json elastic_box(const char* elasticity_solver, double max_dt) {
-  const double s = kWaveSpacing, lambda = kWaveLength * s, w = 6 * s;
-  return {
-      {"solver",
-       {{"type", "sph"},
-        {"max_dt", max_dt},
-        {"sph", {{"spacing", s}, {"speed_of_sound", 0.01}, {"elasticity_solver", elasticity_solver}}}}},
-      {"time", {{"end", 1.0}}},
-      {"gravity", {0, 0, 0}},
-      {"domain", {{"min", {0, 0, 0}}, {"max", {w, lambda, w}}, {"periodic", {"x", "y", "z"}}}},
-      {"materials",
-       {{"solid",
-         {{"density", kWaveDensity}, {"viscosity", 0.0}, {"elasticity", kWaveElasticity}, {"relaxation_time", 1e9}}}}},
-      {"bodies", json::array({{{"name", "solid"},
-                               {"material", "solid"},
-                               {"shape", {{"type", "box"}, {"min", {0, 0, 0}}, {"max", {w, lambda, w}}}}}})}};
+  const double s = kWaveSpacing;
+  return test_support::periodic_box_scene(
+      6 * s, kWaveLength * s, {{"spacing", s}, {"speed_of_sound", 0.01}, {"elasticity_solver", elasticity_solver}},
+      {{"density", kWaveDensity}, {"viscosity", 0.0}, {"elasticity", kWaveElasticity}, {"relaxation_time", 1e9}},
+      max_dt);
 }
 
 struct Wave {
@@ -52,10 +42,7 @@ struct Wave {
 Wave run_wave(const char* elasticity_solver, double max_dt, int steps) {
   auto sph = test_support::make_sph(elastic_box(elasticity_solver, max_dt));
   const double k = 2 * kPi / (kWaveLength * kWaveSpacing), c = std::sqrt(kWaveElasticity / (2 * kWaveDensity));
-  auto& ps = sph->mutable_particles();
-  for (std::size_t i = 0; i < ps.size(); ++i)
-    ps.vector("velocity")[i] = Vec3(kWaveAmplitude * std::sin(k * ps.vector("position")[i].y()), 0, 0);
-  sph->refresh();
+  test_support::start_shear_wave(*sph, k, kWaveAmplitude);
   Wave out;
   out.dt = sph->max_stable_dt();
   for (int n = 0; n < steps; ++n) sph->step(out.dt);
@@ -143,29 +130,11 @@ TEST(Xsph, SmoothsAShearWaveAtTheSameRatePerSecondWhateverTheStep) {
   const double s = kWaveSpacing, lambda = kWaveLength * s, w = 6 * s, c = 0.01, k = 2 * kPi / lambda;
   const double reference_step = 0.4 * s / c;  // cfl ħ / c with ħ = h/2 = s
   auto decay = [&](int substeps) {
-    const json scene = {
-        {"solver", {{"type", "sph"}, {"sph", {{"spacing", s}, {"speed_of_sound", c}}}}},
-        {"time", {{"end", 1.0}}},
-        {"gravity", {0, 0, 0}},
-        {"domain", {{"min", {0, 0, 0}}, {"max", {w, lambda, w}}, {"periodic", {"x", "y", "z"}}}},
-        {"materials", {{"fluid", {{"density", 1000.0}, {"viscosity", 0.0}, {"xsph", 0.5}}}}},
-        {"bodies", json::array({{{"name", "fluid"},
-                                 {"material", "fluid"},
-                                 {"shape", {{"type", "box"}, {"min", {0, 0, 0}}, {"max", {w, lambda, w}}}}}})}};
-    auto sph = test_support::make_sph(scene);
-    auto& ps = sph->mutable_particles();
-    for (std::size_t i = 0; i < ps.size(); ++i)
-      ps.vector("velocity")[i] = Vec3(kWaveAmplitude * std::sin(k * ps.vector("position")[i].y()), 0, 0);
-    sph->refresh();
+    auto sph = test_support::make_sph(test_support::periodic_box_scene(
+        w, lambda, {{"spacing", s}, {"speed_of_sound", c}}, {{"density", 1000.0}, {"viscosity", 0.0}, {"xsph", 0.5}}));
+    test_support::start_shear_wave(*sph, k, kWaveAmplitude);
     for (int n = 0; n < 10 * substeps; ++n) sph->step(reference_step / substeps);
-    const auto& x = sph->particles().vector("position");
-    const auto& v = sph->particles().vector("velocity");
-    double num = 0, den = 0;
-    for (std::size_t i = 0; i < x.size(); ++i) {
-      num += v[i].x() * std::sin(k * x[i].y());
-      den += std::pow(std::sin(k * x[i].y()), 2);
-    }
-    return -std::log(num / den / kWaveAmplitude);  // e-foldings over 10 reference steps
+    return -std::log(test_support::shear_wave_amplitude(*sph, k) / kWaveAmplitude);  // e-foldings over 10 steps
   };
   const double full = decay(1), quarter = decay(4);
   std::printf("XSPH over 10 reference steps: %.4f e-foldings at the reference step, %.4f at a quarter of it\n", full,
