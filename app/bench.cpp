@@ -22,12 +22,11 @@ namespace {
 int run_scene_bench(const BenchOptions& opt, const std::vector<int>& threads, int hw) {
   std::vector<SceneOverride> overrides;
   for (const std::string& s : opt.sets) overrides.push_back(parse_override(s));
-  load_scene(opt.scene, overrides, opt.preview);  // a bad scene is refused before the header
+  Scene scene = load_scene(opt.scene, overrides, opt.preview);  // a bad scene is refused before the header
+  if (opt.end_time > 0) set_end_time(scene, opt.end_time);
   fmt::print("bakesim bench: {}{}, machine has {} hardware threads\n", opt.scene, opt.preview ? " (preview)" : "", hw);
   for (int t : threads) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(t));
-    Scene scene = load_scene(opt.scene, overrides, opt.preview);
-    if (opt.end_time > 0) set_end_time(scene, opt.end_time);
     auto solver = make_solver(scene);
     std::map<std::string, long> bounds;  // steps limited by each bound
     long steps = 0;

@@ -34,17 +34,17 @@ inline Mat3 maxwell_stress_rate(const Mat3& stress, const Mat3& velocity_gradien
   return r.rotation + elasticity * r.strain_rate_deviator - stress / relaxation_time;
 }
 
-// One step of Eq 3.20 with the relaxation term integrated exactly
-// (exponential integrator; the forcing R + μ_e D' is held over the step):
-//   S(t+dt) = e^{−dt/λ} S + λ (1 − e^{−dt/λ}) (R + μ_e D').
-// Exact for pure relaxation (S decays as e^{−t/λ}) and stable for any dt/λ.
-// λ(1 − e^{−dt/λ}): the weight of the forcing over one step (→ dt for λ ≫ dt),
-// written as dt · (1 − e^{−x})/x to stay accurate for small x.
+// w = λ(1 − e^{−dt/λ}): the weight of the forcing over one step (→ dt for
+// λ ≫ dt), written as dt · (1 − e^{−x})/x to stay accurate for small x.
 inline Real maxwell_forcing_weight(Real relaxation_time, Real dt) {
   const Real x = dt / relaxation_time;
   return x > 1e-8 ? -std::expm1(-x) / x * dt : dt;
 }
 
+// One step of Eq 3.20 with the relaxation term integrated exactly
+// (exponential integrator; the forcing R + μ_e D' is held over the step):
+//   S(t+dt) = e^{−dt/λ} S + w (R + μ_e D'),  w = λ (1 − e^{−dt/λ}).
+// Exact for pure relaxation (S decays as e^{−t/λ}) and stable for any dt/λ.
 inline Mat3 maxwell_stress_step(const Mat3& stress, const Mat3& velocity_gradient, Real elasticity,
                                 Real relaxation_time, Real dt) {
   const MaxwellRates r = maxwell_rates(stress, velocity_gradient);
@@ -60,16 +60,14 @@ inline Mat3 maxwell_stress_step(const Mat3& stress, const Mat3& velocity_gradien
 // that forcing acts as a viscous stress 2 η D' with η = w μ_e / 2
 // (maxwell_step_viscosity): backward Euler for the elastic shear waves, so
 // they no longer bound the step. The rotation R is then that of the relaxed
-// stress, a difference of order dt²/λ from maxwell_stress_step.
-inline Real maxwell_step_viscosity(Real elasticity, Real relaxation_time, Real dt) {
-  return 0.5 * maxwell_forcing_weight(relaxation_time, dt) * elasticity;
-}
+// stress, a difference of order dt²/λ from maxwell_stress_step. Both take the
+// step's forcing weight w = maxwell_forcing_weight(λ, dt), computed once.
+inline Real maxwell_step_viscosity(Real elasticity, Real forcing_weight) { return 0.5 * forcing_weight * elasticity; }
 
 inline Mat3 maxwell_forcing_step(const Mat3& relaxed_stress, const Mat3& velocity_gradient, Real elasticity,
-                                 Real relaxation_time, Real dt) {
+                                 Real forcing_weight) {
   const MaxwellRates r = maxwell_rates(relaxed_stress, velocity_gradient);
-  return relaxed_stress +
-         maxwell_forcing_weight(relaxation_time, dt) * (r.rotation + elasticity * r.strain_rate_deviator);
+  return relaxed_stress + forcing_weight * (r.rotation + elasticity * r.strain_rate_deviator);
 }
 
 }  // namespace bakesim

@@ -122,7 +122,7 @@ SphSolver::SphSolver(Setup setup)
                                                  : tait_b_.at(std::clamp<int>(b.material, 0, int(tait_b_.size()) - 1)));
   // Implicit viscosity when the explicit viscous bound would be tighter than
   // the CFL bound at the largest viscosity any material reaches.
-  xsph_reference_step_ = s.cfl * 0.5 * h_ / s.speed_of_sound;
+  rest_cfl_step_ = s.cfl * 0.5 * h_ / s.speed_of_sound;
   implicit_elasticity_ = s.implicit_elasticity && elastic_;
   implicit_viscosity_ = s.viscosity_solver == ViscositySolver::implicit || s.stress_viscosity || implicit_elasticity_;
   if (s.viscosity_solver == ViscositySolver::automatic) {
@@ -136,8 +136,8 @@ SphSolver::SphSolver(Setup setup)
                  .viscosity_at_rest();
       nu = std::max(nu, mu / m.rest_density);
     }
-    implicit_viscosity_ = s.stress_viscosity || implicit_elasticity_ ||
-                          (nu > 0 && s.viscous_factor * hs * hs / nu < s.cfl * hs / s.speed_of_sound);
+    implicit_viscosity_ =
+        s.stress_viscosity || implicit_elasticity_ || (nu > 0 && s.viscous_factor * hs * hs / nu < rest_cfl_step_);
   }
   // Domain walls come first, then analytic colliders; meshes are separate.
   periodicity_ = setup_.periodicity();
@@ -478,7 +478,7 @@ void SphSolver::step(Real dt) {
   phase_kick(dt);
   phase_xsph(dt);
   phase_viscosity(dt);
-  phase_stress_increment(dt);
+  phase_stress_increment();
   phase_heat(dt);
   if (moist_) phase_water(dt);
   phase_browning(dt);

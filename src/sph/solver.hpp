@@ -116,7 +116,7 @@ class SphSolver final : public Solver {
   void phase_density();
   void phase_surface();
   void phase_stress(Real dt);
-  void phase_stress_increment(Real dt);  // implicit elasticity: w (R + μ_e D') of the solved velocities
+  void phase_stress_increment();  // implicit elasticity: w (R + μ_e D') of the solved velocities
   void phase_pressure();
   void phase_forces();
   void compute_wall_drag();
@@ -213,7 +213,7 @@ class SphSolver final : public Solver {
   std::vector<Real> conductivity_;     // per material, read per neighbour pair in the heat phase
   std::vector<Real> bubble_b_;         // per body: B of Eq 3.48
   bool implicit_viscosity_ = false;
-  Real xsph_reference_step_ = 1;      // s: the CFL bound at rest, cfl ħ / c, at which XSPH acts fully per step
+  Real rest_cfl_step_ = 1;            // s: the CFL bound at rest, cfl ħ / c (XSPH's reference step, auto viscosity)
   bool elastic_ = false;              // some material has a Maxwell stress (μ_e not identically 0)
   bool implicit_elasticity_ = false;  // its elastic increment is solved with the implicit viscosity
   bool heated_colliders_ = false;     // some collider carries a temperature
@@ -301,9 +301,10 @@ class SphSolver final : public Solver {
   std::vector<Real> wall_drag_;
   std::vector<Vec3> wall_drag_velocity_;
   std::vector<double> pair_visc_;  // implicit viscosity weights, layout of lists_
-  // Implicit elasticity (stress phase → viscosity phase): μ plus the step's
+  // Implicit elasticity (stress phase → viscosity and stress-increment
+  // phases): the step's forcing weight w = λ(1 − e^{−dt/λ}), and μ plus the
   // elastic viscosity w μ_e / 2, the viscosity the implicit solve uses.
-  std::vector<Real> solve_viscosity_;
+  std::vector<Real> forcing_weight_, solve_viscosity_;
   std::vector<Vec3> viscosity_rhs_;            // M v* of the implicit viscosity solve
   std::vector<Vec3> viscosity_start_;          // v* (the velocities before the solve)
   PcgScratch<Vec3> viscosity_pcg_;             // its conjugate-gradient vectors

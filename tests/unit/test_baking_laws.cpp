@@ -61,14 +61,14 @@ TEST(MaxwellStress, SemiImplicitSplitMatchesTheExplicitStep) {
   for (const Real lambda : {1e9, 0.7, 1e-3})
     for (const Real dt : {1e-5, 1e-3}) {
       const Real decay = std::exp(-dt / lambda);
-      const Mat3 split = maxwell_forcing_step(decay * s, l, mu_e, lambda, dt);
+      const Mat3 split = maxwell_forcing_step(decay * s, l, mu_e, maxwell_forcing_weight(lambda, dt));
       const Mat3 rotation = maxwell_rates(s, l).rotation;
       const Mat3 expected =
           maxwell_stress_step(s, l, mu_e, lambda, dt) - maxwell_forcing_weight(lambda, dt) * (1 - decay) * rotation;
       EXPECT_LT((split - expected).norm(), 1e-12 * (s.norm() + mu_e * dt)) << "lambda " << lambda << " dt " << dt;
     }
   // Far below λ the step's viscosity is μ_e dt / 2 (the increment μ_e dt D' is 2 η D').
-  EXPECT_NEAR(maxwell_step_viscosity(mu_e, 1e9, 1e-4), 0.5 * mu_e * 1e-4, 1e-12);
+  EXPECT_NEAR(maxwell_step_viscosity(mu_e, maxwell_forcing_weight(1e9, 1e-4)), 0.5 * mu_e * 1e-4, 1e-12);
 }
 
 TEST(MaxwellStress, DeviatorIsTracelessAndExpansionMakesNoStress) {

@@ -37,7 +37,7 @@ void SphSolver::phase_xsph(Real dt) {
   for (const Material& m : setup_.materials) any |= !is_constant(m.xsph) || std::get<ConstantCurve>(m.xsph).value > 0;
   if (!any) return;
   const Vec3* v = v_.data();
-  const Real share = std::min<Real>(1, dt / xsph_reference_step_);
+  const Real share = std::min<Real>(1, dt / rest_cfl_step_);
   parallel_for(x_.size(), [&](std::size_t i) {
     Vec3 corr = Vec3::Zero();
     const Vec3 vi = v[i];

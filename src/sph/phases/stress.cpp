@@ -28,10 +28,12 @@ void SphSolver::phase_stress(Real dt) {
     return;
   }
   solve_viscosity_.resize(x_.size());
+  forcing_weight_.resize(x_.size());
   parallel_for(
       x_.size(),
       [&](std::size_t i) {
-        solve_viscosity_[i] = mu_[i] + maxwell_step_viscosity(elasticity_[i], relaxation_[i], dt);
+        forcing_weight_[i] = maxwell_forcing_weight(relaxation_[i], dt);
+        solve_viscosity_[i] = mu_[i] + maxwell_step_viscosity(elasticity_[i], forcing_weight_[i]);
         if (stress_diag_[i].isZero() && stress_off_[i].isZero()) return;
         const Real decay = std::exp(-dt / relaxation_[i]);
         stress_diag_[i] *= decay;
@@ -41,7 +43,7 @@ void SphSolver::phase_stress(Real dt) {
 }
 
 // The densities have not changed since the pressure phase: its volumes m/ρ serve.
-void SphSolver::phase_stress_increment(Real dt) {
+void SphSolver::phase_stress_increment() {
   if (!implicit_elasticity_) return;
   ScopedPhase t(timers_, t_stress_);
   parallel_for(
@@ -49,7 +51,7 @@ void SphSolver::phase_stress_increment(Real dt) {
       [&](std::size_t i) {
         if (elasticity_[i] == 0.0 && stress_diag_[i].isZero() && stress_off_[i].isZero()) return;
         set_stress(i, maxwell_forcing_step(stress(i), velocity_gradient(i, volume_.data()), elasticity_[i],
-                                           relaxation_[i], dt));
+                                           forcing_weight_[i]));
       },
       256);
 }

@@ -98,11 +98,11 @@ void SphSolver::phase_viscosity(Real dt) {
       "solver.sph.implicit_viscosity.max_iterations");
 }
 
-// b = M v* (plus the no-slip walls' v_wall terms); the solve starts from v*
-// plus the last solve's change (start_viscous_guess). Returns |b|² per component for the stopping test: the
-// momentum M v* plus the momentum one step of gravity adds (m g dt per
-// particle), so a body nearly at rest does not demand a solve far below what
-// its next step changes anyway.
+// b = M v* (plus the no-slip walls' v_wall terms); the Laplacian solve starts
+// from v* plus the last solve's change (start_viscous_guess). Returns |b|² per
+// component for the stopping test: the momentum M v* plus the momentum one
+// step of gravity adds (m g dt per particle), so a body nearly at rest does
+// not demand a solve far below what its next step changes anyway.
 Vec3 SphSolver::build_viscosity_rhs(Real dt) {
   const std::size_t n = x_.size();
   const std::vector<Real>& mu = viscosity_in_solve();
