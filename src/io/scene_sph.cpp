@@ -57,6 +57,7 @@ sph::BubbleSpec build_bubbles(const Ctx& c, const std::string& path, const json&
   bs.max_expansion = bj["max_expansion"].get<double>();
   bs.end_temperature = bj["end_temperature"].get<double>();
   bs.contract_on_cooling = bj["contract_on_cooling"].get<bool>();
+  bs.vent_at_surface = bj["vent_at_surface"].get<bool>();
   return bs;
 }
 

@@ -58,6 +58,7 @@ struct BubbleSpec {
   Real max_expansion = 3.0;            // a bubble stops rising when ρ0/ρ reaches this
   Real end_temperature = 100.0;        // °C: the rise ends (Eq 3.52 takes over) for every particle of the body
   bool contract_on_cooling = false;    // risen bubbles shrink by the gas law as they cool
+  bool vent_at_surface = false;        // a rising bubble on the air-facing surface holds no gas pressure
 };
 
 struct Body : BodyBase {
@@ -95,7 +96,7 @@ struct Settings {
   Real artificial_stress = 0.0, artificial_stress_exponent = 4.0;
   Real surface_threshold = 0.1;  // |∇C| · h above which surface tension acts (Eq 3.30)
   SurfaceMethod surface_method = SurfaceMethod::colour;
-  Real surface_colour_threshold = 0.6;  // |∇C| · h at or above which a particle is on the surface
+  Real surface_colour_threshold = 0.3;  // |∇C| · h at or above which a particle is on the surface
   Real surface_hull_threshold = 0.5;    // hull boundary closer than this × spacing: on the surface
   int surface_every = 1;                // steps between surface detections
   bool surface_open_space = true;       // keep flags only where open space lies along the outward normal

@@ -103,7 +103,8 @@ SphSolver::SphSolver(Setup setup)
       anchor_(particles_.add_vector("neighbour_anchor", "m", false)),
       anchor_support_(particles_.add_scalar("neighbour_anchor_support", "m", false)),
       fill_radius_(particles_.add_scalar("open_space_radius", "m", false)),
-      viscous_change_(particles_.add_vector("viscous_velocity_change", "m/s", false)) {
+      viscous_change_(particles_.add_vector("viscous_velocity_change", "m/s", false)),
+      air_facing_(particles_.add_int("air_facing", false)) {
   const Settings& s = setup_.settings;
   if (setup_.materials.empty()) throw InputError("materials", "no materials defined");
   for (const Material& m : setup_.materials) {
@@ -250,7 +251,6 @@ void SphSolver::seed_particles() {
     step_book_.resize(total);
     particle_k_.resize(total);
   }
-  air_facing_.assign(total, 0);
   face_outside_.assign(total, 0);
   face_coefficient_.assign(total, 0);
   std::size_t k = 0;

@@ -239,7 +239,6 @@ class SphSolver final : public Solver {
   std::vector<Real>* vapour_density_ = nullptr;                         // ρ_v, kg/m³
   std::vector<std::array<Real, 2>> water_coefficients_, water_change_;  // per step: (vapour, liquid)
   std::vector<std::array<Real, 3>> step_book_;                          // per step: latent J, boiled kg, clamped kg
-  std::vector<std::uint8_t> air_facing_;               // heat phase: this surface particle exchanges with the air
   std::vector<Real> face_outside_, face_coefficient_;  // heat phase: what a surface particle faces (°C, W/(m² K))
   std::vector<Real> particle_k_;  // heat phase with moisture: k + the closed-cell heat pipe, W/(m K)
 
@@ -282,6 +281,10 @@ class SphSolver final : public Solver {
   // v − v* of the last implicit viscosity solve, its next start (in the
   // registry: it follows sorts and checkpoints).
   std::vector<Vec3>& viscous_change_;
+  // Heat phase: this surface particle exchanges with the air (not a heated
+  // collider); in the registry, so the next step's pressure phase (vented
+  // bubbles) reads it for the same particle after a sort or a restore.
+  std::vector<std::int32_t>& air_facing_;
   std::vector<std::uint32_t> order_;
   // Per-step scratch, valid only within the phases that fill them (not in
   // the registry, so sorting does not move them).

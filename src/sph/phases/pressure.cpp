@@ -7,7 +7,10 @@
 namespace bakesim::sph {
 
 // Eq 3.17 (Tait, γ = 7); Eq 3.48–3.51 for rising bubbles; Eq 3.52 once the
-// rise has ended (reference density ρ_f keeps the risen volume).
+// rise has ended (reference density ρ_f keeps the risen volume). With
+// `vent_at_surface` a rising bubble that faced the oven air in the last heat
+// phase (air_facing_, a surface particle not against a heated collider) is
+// open to it and presses by Tait like dough: its gas escapes.
 void SphSolver::phase_pressure() {
   ScopedPhase t(timers_, t_pressure_);
   const Real gamma = setup_.settings.gamma;
@@ -27,7 +30,7 @@ void SphSolver::phase_pressure() {
           if (bubble_[i] && setup_.bodies[body_[i]].bubbles.contract_on_cooling)
             reference = contracted_reference_density(reference, temperature_[i], set_temperature_[i]);
           p = tait_pressure(tait_b_[mat], rho_[i], reference, gamma);
-        } else if (rise_state_[i] == 1) {
+        } else if (rise_state_[i] == 1 && !(setup_.bodies[body_[i]].bubbles.vent_at_surface && air_facing_[i])) {
           const Body& b = setup_.bodies[body_[i]];
           p = bubble_pressure(bubble_b_[body_[i]], rho_[i], rho0, temperature_[i], b.temperature);
         } else {
