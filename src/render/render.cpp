@@ -310,8 +310,12 @@ Image trace(RayScene& rs, const Aabb& bodies, const RenderSettings& s, const Sur
   right.normalize();
   const Vec3f up = right.cross(forward);
   const float tan_half = float(std::tan(0.5 * cam.field_of_view * kPi / 180.0));
-  // Lights placed relative to the camera: key from the upper left, fill from the right.
-  const Vec3f key = (-0.55f * right + 1.1f * Vec3f(0, 1, 0) - 0.45f * forward).normalized();
+  // Lights placed relative to the camera: key from the upper left, fill from the right. A cut
+  // view is lit for its cut face, as a cut loaf is photographed: the key comes from further
+  // in front, so the cut (facing the camera) and the top take about the same light, and a
+  // pale crumb does not read darker than the brown crust over it.
+  const Vec3f key = s.cut ? (-0.45f * right + 0.9f * Vec3f(0, 1, 0) - 0.9f * forward).normalized()
+                          : (-0.55f * right + 1.1f * Vec3f(0, 1, 0) - 0.45f * forward).normalized();
   const Vec3f fill = (0.9f * right + 0.35f * Vec3f(0, 1, 0) - 0.6f * forward).normalized();
   const Vec3f key_colour(1.05f, 1.0f, 0.93f), fill_colour(0.22f, 0.24f, 0.28f), sky_colour(0.42f, 0.45f, 0.5f);
   const float eps = float(1e-4 * radius), ao_reach = float(0.6 * radius);
