@@ -42,34 +42,10 @@ scene.frame_set(frames[-1] + 1)
 last = [v.co.copy() for v in paddle.data.vertices]
 assert max((a - b).length for a, b in zip(first, last)) > 1e-4, "the moving collider did not move"
 assert f"{name}_ghost" not in bpy.data.objects, "a hidden collider was imported"
-if png:
-    from mathutils import Vector
-    for default in ("Cube", "Light", "Camera"):  # the factory start-up scene's, around the run
-        if default in bpy.data.objects:
-            bpy.data.objects.remove(bpy.data.objects[default])
-    bpy.context.view_layer.update()
-    corners = [bodies.matrix_world @ Vector(c) for c in bodies.bound_box]
-    centre = sum(corners, Vector()) / 8
-    size = max((a - b).length for a in corners for b in corners)
-    target = bpy.data.objects.new("target", None)
-    target.location = centre
-    scene.collection.objects.link(target)
-    cam = bpy.data.objects.new("camera", bpy.data.cameras.new("camera"))
-    cam.location = centre + Vector((1.6, -2.2, 1.4)) * size
-    track = cam.constraints.new("TRACK_TO")
-    track.target, track.track_axis, track.up_axis = target, "TRACK_NEGATIVE_Z", "UP_Y"
-    scene.collection.objects.link(cam)
-    scene.camera = cam
-    sun = bpy.data.objects.new("sun", bpy.data.lights.new("sun", "SUN"))
-    sun.data.energy = 4
-    sun.rotation_euler = (0.6, 0.2, 0.5)
-    scene.collection.objects.link(sun)
-    scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.6, 0.65, 0.7, 1)
-    scene.render.engine = "CYCLES"
-    scene.cycles.samples = 32
-    scene.cycles.use_denoising = False  # Debian's Blender has no OpenImageDenoise
-    scene.render.resolution_x, scene.render.resolution_y = 480, 320
-    scene.render.filepath = png
-    bpy.ops.render.render(write_still=True)
+if png:  # the picture, framed and lit as tools/blender/render_run.py does
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools", "blender"))
+    from render_run import render_framed
+
+    render_framed(bodies, png, resolution=(480, 320), samples=32, offset=(1.6, -2.2, 1.4))
 print("blender_check: ok", len(frames), "frames,", len([o for o in bpy.data.objects if o.get("bakesim_sequence")]),
       "sequence objects")

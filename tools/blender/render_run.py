@@ -19,39 +19,48 @@ import sys
 import bpy
 from mathutils import Vector
 
-zip_path, run, png = sys.argv[sys.argv.index("--") + 1:][:3]
-bpy.ops.preferences.addon_install(filepath=zip_path, overwrite=True)
-bpy.ops.preferences.addon_enable(module="bakesim_import")
-assert bpy.ops.import_scene.bakesim_run(directory=run) == {"FINISHED"}
-scene = bpy.context.scene
-name = json.load(open(os.path.join(run, "scene.json")))["name"]
-for default in ("Cube", "Light", "Camera"):  # the factory start-up scene's
-    if default in bpy.data.objects:
-        bpy.data.objects.remove(bpy.data.objects[default])
-scene.frame_set(scene.frame_end)
-bodies = bpy.data.objects[f"{name}_bodies"]
-bpy.context.view_layer.update()
-corners = [bodies.matrix_world @ Vector(c) for c in bodies.bound_box]
-centre = sum(corners, Vector()) / 8
-size = max((a - b).length for a in corners for b in corners)
-target = bpy.data.objects.new("target", None)
-target.location = centre
-scene.collection.objects.link(target)
-camera = bpy.data.objects.new("camera", bpy.data.cameras.new("camera"))
-camera.location = centre + Vector((1.2, -1.6, 1.5)) * size
-track = camera.constraints.new("TRACK_TO")
-track.target, track.track_axis, track.up_axis = target, "TRACK_NEGATIVE_Z", "UP_Y"
-scene.collection.objects.link(camera)
-scene.camera = camera
-sun = bpy.data.objects.new("sun", bpy.data.lights.new("sun", "SUN"))
-sun.data.energy = 4
-sun.rotation_euler = (0.6, 0.2, 0.5)
-scene.collection.objects.link(sun)
-scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.6, 0.65, 0.7, 1)
-scene.render.engine = "CYCLES"
-scene.cycles.samples = 48
-scene.cycles.use_denoising = False
-scene.render.resolution_x, scene.render.resolution_y = 960, 540
-scene.render.filepath = png
-bpy.ops.render.render(write_still=True)
-print("rendered", png, "objects:", ", ".join(sorted(o.name for o in bpy.data.objects)))
+
+def render_framed(bodies, png, resolution=(960, 540), samples=48, offset=(1.2, -1.6, 1.5)):
+    """Remove the start-up cube, light and camera, frame `bodies` with a camera
+    at `offset` times its size from its centre, add a sun and render the
+    current frame with Cycles into `png`."""
+    scene = bpy.context.scene
+    for default in ("Cube", "Light", "Camera"):  # the factory start-up scene's
+        if default in bpy.data.objects:
+            bpy.data.objects.remove(bpy.data.objects[default])
+    bpy.context.view_layer.update()
+    corners = [bodies.matrix_world @ Vector(c) for c in bodies.bound_box]
+    centre = sum(corners, Vector()) / 8
+    size = max((a - b).length for a in corners for b in corners)
+    target = bpy.data.objects.new("target", None)
+    target.location = centre
+    scene.collection.objects.link(target)
+    camera = bpy.data.objects.new("camera", bpy.data.cameras.new("camera"))
+    camera.location = centre + Vector(offset) * size
+    track = camera.constraints.new("TRACK_TO")
+    track.target, track.track_axis, track.up_axis = target, "TRACK_NEGATIVE_Z", "UP_Y"
+    scene.collection.objects.link(camera)
+    scene.camera = camera
+    sun = bpy.data.objects.new("sun", bpy.data.lights.new("sun", "SUN"))
+    sun.data.energy = 4
+    sun.rotation_euler = (0.6, 0.2, 0.5)
+    scene.collection.objects.link(sun)
+    scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.6, 0.65, 0.7, 1)
+    scene.render.engine = "CYCLES"
+    scene.cycles.samples = samples
+    scene.cycles.use_denoising = False  # Debian's Blender has no OpenImageDenoise
+    scene.render.resolution_x, scene.render.resolution_y = resolution
+    scene.render.filepath = png
+    bpy.ops.render.render(write_still=True)
+
+
+if __name__ == "__main__":
+    zip_path, run, png = sys.argv[sys.argv.index("--") + 1:][:3]
+    bpy.ops.preferences.addon_install(filepath=zip_path, overwrite=True)
+    bpy.ops.preferences.addon_enable(module="bakesim_import")
+    assert bpy.ops.import_scene.bakesim_run(directory=run) == {"FINISHED"}
+    scene = bpy.context.scene
+    name = json.load(open(os.path.join(run, "scene.json")))["name"]
+    scene.frame_set(scene.frame_end)
+    render_framed(bpy.data.objects[f"{name}_bodies"], png)
+    print("rendered", png, "objects:", ", ".join(sorted(o.name for o in bpy.data.objects)))
