@@ -16,6 +16,7 @@
 
 #include <cmath>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/errors.hpp"
@@ -105,16 +106,31 @@ PcgResult<Value> solve_pcg(std::size_t n, Apply&& apply, Active&& active, const 
     Value alpha = zero(pap);
     for (int c = 0; c < size(pap); ++c)
       at(alpha, c) = at(pap, c) > 0 && at(result.residual2, c) > at(stop2, c) ? at(rz, c) / at(pap, c) : 0.0;
-    parallel_for(
-        n,
-        [&](std::size_t i) {
-          x[i] += times(alpha, p[i]);
-          r[i] -= times(alpha, ap[i]);
-          z[i] = r[i] / diag[i];
+    // The update and both dot products in one pass over the vectors (the
+    // sums in the same order as two separate dots: same chunks, same order).
+    using Sums = std::pair<Value, Value>;  // r·z, r·r
+    const Sums sums = deterministic_reduce(
+        n, Sums{zero(rz), zero(rz)},
+        [&](std::size_t begin, std::size_t end) {
+          Sums s{zero(rz), zero(rz)};
+          for (std::size_t i = begin; i < end; ++i) {
+            x[i] += times(alpha, p[i]);
+            r[i] -= times(alpha, ap[i]);
+            z[i] = r[i] / diag[i];
+            s.first += times(r[i], z[i]);
+            s.second += times(r[i], r[i]);
+          }
+          return s;
         },
-        4096);
-    const Value rz_new = dot(r, z);
-    result.residual2 = dot(r, r);
+        [](const Sums& a, const Sums& b) {
+          return Sums{Value(a.first + b.first), Value(a.second + b.second)};
+        });
+    Value rz_new = sums.first, rr = sums.second;
+    if constexpr (Coupled) {
+      rz_new = couple(rz_new);
+      rr = couple(rr);
+    }
+    result.residual2 = rr;
     Value beta = zero(rz);
     for (int c = 0; c < size(rz); ++c) at(beta, c) = at(rz, c) > 0 ? at(rz_new, c) / at(rz, c) : 0.0;
     rz = rz_new;

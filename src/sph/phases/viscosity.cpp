@@ -8,9 +8,11 @@
 // Multiplying Eq 3.19 by m_i gives a symmetric graph Laplacian:
 //   m_i dv_i/dt = Σ_j w_ij (v_j − v_i),  w_ij = μ̄_ij V_i V_j ∇²W_visc(r_ij) ≥ 0,
 // so (M + dt K) v^{n+1} = M v* is symmetric positive definite and is solved
-// matrix-free by conjugate gradients with a Jacobi preconditioner, the three
-// velocity components side by side (core/pcg.hpp, shared with the MPM
-// implicit heat). Rows of K sum to zero: momentum is conserved to the solver
+// by conjugate gradients with a Jacobi preconditioner, the three velocity
+// components side by side (core/pcg.hpp, shared with the MPM implicit heat).
+// The weights dt·w_ij are computed once per step and kept in single
+// precision (the products read them every iteration; 7 significant digits
+// are far below the solve's tolerance), the sums in double. Rows of K sum to zero: momentum is conserved to the solver
 // tolerance. A no-slip wall adds dt μ_i V_i G(d) to its particles' diagonal
 // and the same times the wall's velocity to the right-hand side
 // (WallGhostSum): still symmetric positive definite.
@@ -56,15 +58,15 @@ void SphSolver::phase_viscosity(Real dt) {
     const std::uint32_t* nb = lists_.begin(i);
     const std::uint32_t count = lists_.count(i);
     const float* pr = lists_.distances(i);
-    double* w = pair_visc_.data() + i * stride;
+    float* w = pair_visc_.data() + i * stride;
     const Real vi = m_[i] / rho_[i];
     Real d = m_[i];
     for (std::uint32_t k = 0; k < count; ++k) {
       const std::uint32_t j = nb[k];
       const Real hij = adaptive_ ? 0.5 * (smoothing_[i] + smoothing_[j]) : h_;  // Eq 3.56
       const Real vc = adaptive_ ? visc_lap_.coefficient_for(hij) : visc_c;
-      w[k] = dt * 0.5 * (mu[i] + mu[j]) * vi * volume_[j] * vc * (hij - Real(pr[k]));
-      d += w[k];
+      w[k] = float(dt * 0.5 * (mu[i] + mu[j]) * vi * volume_[j] * vc * (hij - Real(pr[k])));
+      d += Real(w[k]);  // the rounded weight, as the product uses it
     }
     if (no_slip_walls_) d += dt * mu[i] * vi * wall_drag_[i];  // the wall's row entry (v_wall on the right)
     diag[i] = d;
@@ -77,11 +79,13 @@ void SphSolver::phase_viscosity(Real dt) {
     parallel_for(n, [&](std::size_t i) {
       const std::uint32_t* nb = lists_.begin(i);
       const std::uint32_t count = lists_.count(i);
-      const double* w = pair_visc_.data() + i * stride;
-      Vec3 acc = m_[i] * in[i];
-      if (no_slip_walls_) acc += (dt * mu[i] * (m_[i] / rho_[i]) * wall_drag_[i]) * in[i];
-      for (std::uint32_t k = 0; k < count; ++k) acc += w[k] * (in[i] - in[nb[k]]);
-      out[i] = acc;
+      const float* w = pair_visc_.data() + i * stride;
+      // Σ_j w_ij (v_i − v_j) = (Σ_j w_ij) v_i − Σ_j w_ij v_j: the row sum is
+      // the diagonal less the mass (and the wall's entry).
+      const Vec3 vi = in[i];
+      Vec3 off = Vec3::Zero();
+      for (std::uint32_t k = 0; k < count; ++k) off += Real(w[k]) * in[nb[k]];
+      out[i] = diag[i] * vi - off;
     });
   };
   const Vec3 b_norm2 = build_viscosity_rhs(dt);
