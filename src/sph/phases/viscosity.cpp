@@ -12,8 +12,8 @@
 // components side by side (core/pcg.hpp, shared with the MPM implicit heat).
 // The weights dt·w_ij are computed once per step and kept in single
 // precision (the products read them every iteration; 7 significant digits
-// are far below the solve's tolerance), the sums in double. Rows of K sum to zero: momentum is conserved to the solver
-// tolerance. A no-slip wall adds dt μ_i V_i G(d) to its particles' diagonal
+// are far below the solve's tolerance), the sums in double. Rows of K sum
+// to zero: momentum is conserved to the solver tolerance. A no-slip wall adds dt μ_i V_i G(d) to its particles' diagonal
 // and the same times the wall's velocity to the right-hand side
 // (WallGhostSum): still symmetric positive definite.
 //
