@@ -27,10 +27,15 @@ inline Real exchanged_energy(Real before, Real after, Real heat_capacity) { retu
 //   (∇·k∇T)_i = Σ_j V_j (k_i + k_j)(T_i − T_j) x_ij·∇W_ij / (r² + η²),
 // with x_ij·∇W_ij = r² W'(r)/r. Returns the pair's term; their sum over j is
 // ρ_i c_p dT_i/dt (W' < 0, so heat flows from the hotter particle to the colder).
+// The geometric factor x_ij·∇W_ij / (r² + η²) alone (the SPH heat and water
+// phases keep it per pair: both diffuse over the same pairs in one step).
+inline Real pair_diffusion_weight(Real dw_dr_over_r, Real r, Real eta2) {
+  return (dw_dr_over_r * r * r) / (r * r + eta2);
+}
 inline Real pair_conduction(Real volume_j, Real conductivity_i, Real conductivity_j, Real temperature_i,
                             Real temperature_j, Real dw_dr_over_r, Real r, Real eta2) {
-  return volume_j * (conductivity_i + conductivity_j) * (temperature_i - temperature_j) * (dw_dr_over_r * r * r) /
-         (r * r + eta2);
+  return volume_j * (conductivity_i + conductivity_j) * (temperature_i - temperature_j) *
+         pair_diffusion_weight(dw_dr_over_r, r, eta2);
 }
 
 // Thermal radiation between a surface and the oven's walls around it (a small

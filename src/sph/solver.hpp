@@ -134,6 +134,7 @@ class SphSolver final : public Solver {
   void phase_heat(Real dt);
   void update_laplacian_moments();  // laplacian_moment_ from this step's neighbours
   // The corrected Laplacian's factor for pair (i, j), 2/(a_i + a_j) (heat and water phases).
+  void update_diffusion_weights();
   Real laplacian_correction(std::size_t i, std::size_t j) const {
     return 2 / (laplacian_moment_[i] + laplacian_moment_[j]);
   }
@@ -306,6 +307,10 @@ class SphSolver final : public Solver {
   // Implicit viscosity weights dt·w_ij, layout of lists_; single precision
   // halves the memory traffic of the conjugate-gradient products.
   std::vector<float> pair_visc_;
+  // Per pair, this step: x_ij·∇W_ij/(r² + η²) · 2/(a_i + a_j), the corrected
+  // Laplacian's weight the heat and water phases share (update_diffusion_weights).
+  std::vector<float> pair_diffusion_;
+  std::vector<Real> liquid_concentration_;  // water phase: W/V per particle, kg/m³
   // Implicit elasticity (stress phase → viscosity and stress-increment
   // phases): the step's forcing weight w = λ(1 − e^{−dt/λ}), and μ plus the
   // elastic viscosity w μ_e / 2, the viscosity the implicit solve uses.

@@ -40,6 +40,31 @@ void SphSolver::update_laplacian_moments() {
       4096);
 }
 
+// The pair weights of the corrected Laplacian, x_ij·∇W_ij/(r² + η²) ·
+// 2/(a_i + a_j), once a step for the heat and the water phases (two
+// divisions a pair, which the phases' loops otherwise each paid). Kept in
+// single precision like the kernel derivative they are made of; the same
+// rounding for (i, j) and (j, i), so the exchanges stay equal and opposite.
+void SphSolver::update_diffusion_weights() {
+  const std::size_t n = x_.size();
+  const std::size_t stride = lists_.stride();
+  resize_with_headroom(pair_diffusion_, n * stride);
+  const Real eta2_fixed = 0.01 * h_ * h_;
+  parallel_for(n, [&](std::size_t i) {
+    const std::uint32_t* nb = lists_.begin(i);
+    const std::uint32_t count = lists_.count(i);
+    const float* pr = lists_.distances(i);
+    const float* pd = pair_dwr_.data() + i * stride;
+    float* w = pair_diffusion_.data() + i * stride;
+    for (std::uint32_t k = 0; k < count; ++k) {
+      const std::uint32_t j = nb[k];
+      const Real hij = 0.5 * (smoothing_[i] + smoothing_[j]);
+      const Real eta2 = adaptive_ ? 0.01 * hij * hij : eta2_fixed;
+      w[k] = float(pair_diffusion_weight(Real(pd[k]), Real(pr[k]), eta2) * laplacian_correction(i, j));
+    }
+  });
+}
+
 // Eq 3.45–3.46: ρ c_p dT/dt = ∇·(k∇T). The kernel Laplacian of Eq 3.46
 // changes sign inside the support (heat could flow from cold to hot for close
 // pairs), so the Laplacian is taken in the Cleary–Monaghan form
@@ -59,7 +84,10 @@ void SphSolver::phase_heat(Real dt) {
   const Oven& oven = setup_.oven;
   const Real dt_bake = oven.bake_step(dt);
   const std::size_t n = x_.size();
-  if (setup_.settings.heat_conduction || moist_) update_laplacian_moments();  // the water phase's too
+  if (setup_.settings.heat_conduction || moist_) {  // the water phase's too
+    update_laplacian_moments();
+    update_diffusion_weights();
+  }
   if (setup_.settings.heat_conduction) {
     // Nothing flows in an isothermal state (a common case: water at room temperature).
     using Range = std::pair<Real, Real>;
@@ -78,8 +106,6 @@ void SphSolver::phase_heat(Real dt) {
           return Range{std::min(a.first, b.first), std::max(a.second, b.second)};
         });
     if (range.second > range.first) {
-      const Real eta2_fixed = 0.01 * h_ * h_;
-      const Real* hsup = smoothing_.data();
       const Real* temp = temperature_.data();
       const Real* vol = volume_.data();
       // With moisture: the closed-cell heat pipe of moist dough adds to k (physics/water.hpp).
@@ -101,17 +127,12 @@ void SphSolver::phase_heat(Real dt) {
         const Real ti = temp[i], ki = moist_ ? particle_k_[i] : mi.conductivity;
         const std::uint32_t* nb = lists_.begin(i);
         const std::uint32_t count = lists_.count(i);
-        const float* pr = lists_.distances(i);
-        const float* pd = pair_dwr_.data() + i * lists_.stride();
+        const float* w = pair_diffusion_.data() + i * lists_.stride();
         Real sum = 0;
         for (std::uint32_t k = 0; k < count; ++k) {
           const std::uint32_t j = nb[k];
-          const Real r = pr[k];
-          // x_ij·∇W = r² W'(r)/r
           const Real kj = moist_ ? particle_k_[j] : conductivity_[material_[j]];
-          const Real hij = 0.5 * (hsup[i] + hsup[j]);
-          const Real eta2 = adaptive_ ? 0.01 * hij * hij : eta2_fixed;
-          sum += pair_conduction(vol[j], ki, kj, ti, temp[j], Real(pd[k]), r, eta2) * laplacian_correction(i, j);
+          sum += vol[j] * (ki + kj) * (ti - temp[j]) * Real(w[k]);  // pair_conduction with the kept weight
         }
         dtemp_[i] = setup_.bodies[body_[i]].hold_temperature ? 0.0 : dt_bake * sum / (rho_[i] * mi.specific_heat);
       });

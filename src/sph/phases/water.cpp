@@ -25,6 +25,7 @@ void SphSolver::phase_water(Real dt) {
   std::vector<Real>& water = *water_;
   std::vector<Real>& moisture = *moisture_;
   std::vector<Real>& vapour = *vapour_density_;
+  liquid_concentration_.resize(n);
   // Per particle: moisture, vapour density and the two coefficients (0 for dry materials and held bodies).
   parallel_for(
       n,
@@ -34,6 +35,7 @@ void SphSolver::phase_water(Real dt) {
           vapour[i] = 0, water_coefficients_[i] = {0, 0};
           return;
         }
+        liquid_concentration_[i] = water[i] / volume_[i];
         const Real x = pw.moisture_of(water[i], m_[i]);
         moisture[i] = x;
         vapour[i] = pw.vapour_density(temperature_[i], x);
@@ -42,7 +44,6 @@ void SphSolver::phase_water(Real dt) {
         water_coefficients_[i] = {pw.vapour_conductance(temperature_[i], phi), pw.liquid_diffusion(temperature_[i])};
       },
       4096);
-  const Real eta2_fixed = 0.01 * h_ * h_;
   const Real h_m = setup_.oven.mass_transfer_at(time_), air_vapour = setup_.oven.air_vapour_density;
   parallel_for(n, [&](std::size_t i) {
     water_change_[i] = {0, 0};
@@ -50,21 +51,17 @@ void SphSolver::phase_water(Real dt) {
     if (!(dv_i > 0) && !(dl_i > 0)) return;
     const std::uint32_t* nb = lists_.begin(i);
     const std::uint32_t count = lists_.count(i);
-    const float* pr = lists_.distances(i);
-    const float* pd = pair_dwr_.data() + i * lists_.stride();
-    const Real ci = water[i] / volume_[i];
+    const float* w = pair_diffusion_.data() + i * lists_.stride();
+    const Real ci = liquid_concentration_[i];
     Real vapour_sum = 0, liquid_sum = 0;
     for (std::uint32_t k = 0; k < count; ++k) {
       const std::uint32_t j = nb[k];
       const auto [dv_j, dl_j] = water_coefficients_[j];
       if (!(dv_j > 0) && !(dl_j > 0)) continue;  // a dry material: no pores to share
-      const Real r = pr[k];
-      const Real hij = 0.5 * (smoothing_[i] + smoothing_[j]);
-      const Real eta2 = adaptive_ ? 0.01 * hij * hij : eta2_fixed;
-      // The heat phase's corrected Laplacian (its moments, this step's positions).
-      const Real pair = volume_[j] * Real(pd[k]) * r * r / (r * r + eta2) * laplacian_correction(i, j);
+      // The heat phase's corrected Laplacian (its weights, this step's positions).
+      const Real pair = volume_[j] * Real(w[k]);
       vapour_sum += pair * (dv_i + dv_j) * (vapour[i] - vapour[j]);
-      liquid_sum += pair * (dl_i + dl_j) * (ci - water[j] / volume_[j]);
+      liquid_sum += pair * (dl_i + dl_j) * (ci - liquid_concentration_[j]);
     }
     Real gained_as_vapour = dtb * volume_[i] * vapour_sum;
     if (air_facing_[i]) gained_as_vapour -= dtb * h_m * (vapour[i] - air_vapour) * area_[i];
