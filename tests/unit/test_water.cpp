@@ -26,6 +26,12 @@ TEST(Water, SaturationPressureFollowsTheSteamTablesWithinOnePercent) {
   EXPECT_NEAR(saturation_vapour_pressure_slope(99.9), 3616, 0.03 * 3616);  // steam tables: 3.62 kPa/K
 }
 
+TEST(Water, PowerOneAndThreeQuartersIsPowsWithinRoundOff) {
+  // The vapour diffusivity's (T/298.15)^1.75 with square roots, over the bake's range (-50 to 300 degC).
+  for (const double r : {0.7, 0.9, 1.0, 1.25, 1.5, 1.9})
+    EXPECT_NEAR(power_1_75(r), std::pow(r, 1.75), 4e-16 * std::pow(r, 1.75)) << r;
+}
+
 TEST(Water, VapourDensityIsTheIdealGasAtTheActivityAndStopsAtTheBoilingPoint) {
   PoreWater w;
   w.moisture = 0.5;
