@@ -29,13 +29,21 @@ int run_scene_bench(const BenchOptions& opt, const std::vector<int>& threads, in
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(t));
     auto solver = make_solver(scene);
     std::map<std::string, long> bounds;  // steps limited by each bound
-    long steps = 0;
+    long steps = 0, solve_steps = 0, solve_iterations = 0;
+    int most_iterations = 0;
+    const char* solve_name = nullptr;
     Stopwatch clock;
     while (solver->time() < scene.end_time - 1e-12) {
       const Real dt = std::min(solver->max_stable_dt(), scene.end_time - solver->time());
       ++bounds[solver->active_dt_bound()];
       solver->step(dt);
       ++steps;
+      if (const Solver::SolveIterations solve = solver->last_solve_iterations(); solve.name) {
+        solve_name = solve.name;
+        ++solve_steps;
+        solve_iterations += solve.iterations;
+        most_iterations = std::max(most_iterations, solve.iterations);
+      }
     }
     const double secs = clock.seconds();
     fmt::print(
@@ -46,6 +54,10 @@ int run_scene_bench(const BenchOptions& opt, const std::vector<int>& threads, in
     std::string limits;
     for (const auto& [name, count] : bounds) limits += fmt::format(" {} {:.1f}%", name, 100.0 * count / steps);
     fmt::print("steps limited by:{}\n", limits);
+    // The implicit solve's conjugate-gradient iterations: what its phase's time is made of.
+    if (solve_name)
+      fmt::print("{}: {:.1f} iterations a step (mean), {} at most\n", solve_name,
+                 double(solve_iterations) / double(solve_steps), most_iterations);
     if (opt.phases) fmt::print("{}", solver->timers().report(steps));
     std::fflush(stdout);
   }

@@ -35,6 +35,14 @@ class Solver {
   // Solver-specific per-frame numbers for stats.csv (name, value), the same
   // names on every frame.
   virtual std::vector<std::pair<std::string, Real>> frame_quantities() const { return {}; }
+  // The last step's implicit solve (the SPH viscosity, the MPM heat) for
+  // `bakesim bench`: its name (static storage; nullptr where the step has
+  // none) and its conjugate-gradient iterations.
+  struct SolveIterations {
+    const char* name = nullptr;
+    int iterations = 0;
+  };
+  virtual SolveIterations last_solve_iterations() const { return {}; }
 
   // Checkpoints (src/io/checkpoint.hpp): the particle attributes, all of them,
   // plus the named numbers returned here are everything the next steps depend

@@ -76,6 +76,10 @@ class MpmSolver final : public Solver {
   Real total_co2() const;          // mol
   Real total_heat_energy() const;  // Σ m c θ, J (θ in °C)
   std::vector<std::pair<std::string, Real>> frame_quantities() const override;
+  SolveIterations last_solve_iterations() const override {
+    if (implicit_heat_.iterations < 0) return {};
+    return {"implicit heat", implicit_heat_.iterations};
+  }
 
  private:
   void build_particles();
@@ -203,6 +207,7 @@ class MpmSolver final : public Solver {
   struct ImplicitHeat {
     std::vector<Real> rhs, diag, x;
     PcgScratch<Real> pcg;
+    int iterations = -1;  // the last step's; -1 before the first implicit solve
   } implicit_heat_;
   ColliderTemperatures collider_temperatures_;  // per collider at the current bake time
   Real time_ = 0;

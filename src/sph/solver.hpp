@@ -91,6 +91,10 @@ class SphSolver final : public Solver {
   bool implicit_viscosity() const { return implicit_viscosity_; }
   bool implicit_elasticity() const { return implicit_elasticity_; }
   int last_viscosity_iterations() const { return viscosity_iterations_; }
+  SolveIterations last_solve_iterations() const override {
+    if (!implicit_viscosity_) return {};
+    return {"implicit viscosity", viscosity_iterations_};
+  }
   // Heat that entered through the surface (air and colliders) since the start, J.
   Real exchanged_heat() const { return exchanged_heat_; }
   // Viscoelastic stress of particle i (symmetric, Pa).

@@ -76,6 +76,14 @@ if grep -Eq '^[0-9]+ particles, 1 threads: 0.02 s simulated in [0-9]+ steps' <<<
 else
   echo "FAIL: bench --scene: $bench_out"; fail=1
 fi
+# With an implicit solve, its conjugate-gradient iterations a step (mean and most).
+bench_out="$("$BAKESIM" bench --scene "$DATA/good_small.json" --threads 1 --set solver.sph.viscosity_solver=implicit \
+  --set 'materials.water.viscosity=50' 2>&1)"
+if grep -Eq '^implicit viscosity: [0-9]+\.[0-9] iterations a step \(mean\), [1-9][0-9]* at most' <<<"$bench_out"; then
+  echo "ok: bench --scene counts the implicit solve's iterations"
+else
+  echo "FAIL: bench --scene without the implicit solve's iterations: $bench_out"; fail=1
+fi
 sed 's/"solver"/"name": "loaf\\u001b[2J", "solver"/' "$DATA/good_small.json" > "$OUT/escape.json"
 expect 2 '^bakesim: error: .*escape.json: name: must not contain control characters' -- "$BAKESIM" validate "$OUT/escape.json"
 mkdir -p "$OUT/$(printf 'esc\033[2Jdir')"

@@ -111,6 +111,7 @@ void MpmSolver::phase_heat_implicit(Real dt) {
   const PcgResult<Real> result = solve_pcg<Real>(
       nodes, apply, [&](std::size_t k) { return mass[k] > 0; }, diag, rhs, x, stop * stop,
       setup_.settings.heat_max_iterations, implicit_heat_.pcg);
+  implicit_heat_.iterations = result.iterations;
   require_acceptable(
       result, rhs2, [&] { return fmt::format("mpm step {} (t = {:.6g} s): implicit heat", steps_ + 1, time_); },
       "solver.mpm.heat_max_iterations");
