@@ -32,10 +32,15 @@ inline Real exchanged_energy(Real before, Real after, Real heat_capacity) { retu
 inline Real pair_diffusion_weight(Real dw_dr_over_r, Real r, Real eta2) {
   return (dw_dr_over_r * r * r) / (r * r + eta2);
 }
+// The pair's term with that factor given (computed once for several phases).
+inline Real pair_conduction_weighted(Real volume_j, Real conductivity_i, Real conductivity_j, Real temperature_i,
+                                     Real temperature_j, Real weight) {
+  return volume_j * (conductivity_i + conductivity_j) * (temperature_i - temperature_j) * weight;
+}
 inline Real pair_conduction(Real volume_j, Real conductivity_i, Real conductivity_j, Real temperature_i,
                             Real temperature_j, Real dw_dr_over_r, Real r, Real eta2) {
-  return volume_j * (conductivity_i + conductivity_j) * (temperature_i - temperature_j) *
-         pair_diffusion_weight(dw_dr_over_r, r, eta2);
+  return pair_conduction_weighted(volume_j, conductivity_i, conductivity_j, temperature_i, temperature_j,
+                                  pair_diffusion_weight(dw_dr_over_r, r, eta2));
 }
 
 // Thermal radiation between a surface and the oven's walls around it (a small

@@ -1,5 +1,7 @@
 #include "physics/water.hpp"
 
+#include <numbers>
+
 namespace bakesim {
 
 namespace {
@@ -9,24 +11,19 @@ struct Antoine {
 };
 constexpr Antoine kLow{8.07131, 1730.63, 233.426}, kHigh{8.14019, 1810.94, 244.485};
 const Antoine& antoine_for(Real celsius) { return celsius < 100 ? kLow : kHigh; }
+// d p_sat/dθ from p_sat itself (one exponential for both).
+Real slope_of_saturation_pressure(Real pressure, Real celsius) {
+  const Antoine& k = antoine_for(celsius);
+  return pressure * std::numbers::ln10 * k.b / ((k.c + celsius) * (k.c + celsius));
+}
 }  // namespace
-
-constexpr Real kLn10 = 2.302585092994045684;
 
 // 10^x as e^(x ln 10): the phases call these for every particle every step,
 // and exp costs a fraction of pow.
 Real saturation_vapour_pressure(Real celsius) {
   const Antoine& k = antoine_for(celsius);
-  return kMmHg * std::exp(kLn10 * (k.a - k.b / (k.c + celsius)));
+  return kMmHg * std::exp(std::numbers::ln10 * (k.a - k.b / (k.c + celsius)));
 }
-
-namespace {
-// d p_sat/dθ from p_sat itself (one exponential for both).
-Real slope_of_saturation_pressure(Real pressure, Real celsius) {
-  const Antoine& k = antoine_for(celsius);
-  return pressure * kLn10 * k.b / ((k.c + celsius) * (k.c + celsius));
-}
-}  // namespace
 
 Real saturation_vapour_pressure_slope(Real celsius) {
   return slope_of_saturation_pressure(saturation_vapour_pressure(celsius), celsius);

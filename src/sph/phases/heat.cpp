@@ -132,7 +132,7 @@ void SphSolver::phase_heat(Real dt) {
         for (std::uint32_t k = 0; k < count; ++k) {
           const std::uint32_t j = nb[k];
           const Real kj = moist_ ? particle_k_[j] : conductivity_[material_[j]];
-          sum += vol[j] * (ki + kj) * (ti - temp[j]) * Real(w[k]);  // pair_conduction with the kept weight
+          sum += pair_conduction_weighted(vol[j], ki, kj, ti, temp[j], Real(w[k]));
         }
         dtemp_[i] = setup_.bodies[body_[i]].hold_temperature ? 0.0 : dt_bake * sum / (rho_[i] * mi.specific_heat);
       });

@@ -13,9 +13,10 @@
 // The weights dt·w_ij are computed once per step and kept in single
 // precision (the products read them every iteration; 7 significant digits
 // are far below the solve's tolerance), the sums in double. Rows of K sum
-// to zero: momentum is conserved to the solver tolerance. A no-slip wall adds dt μ_i V_i G(d) to its particles' diagonal
-// and the same times the wall's velocity to the right-hand side
-// (WallGhostSum): still symmetric positive definite.
+// to zero: momentum is conserved to the solver tolerance. A no-slip wall
+// adds dt μ_i V_i G(d) to its particles' diagonal and the same times the
+// wall's velocity to the right-hand side (WallGhostSum): still symmetric
+// positive definite.
 //
 // Stress form (solver.sph.viscosity_operator = stress): the force is the
 // divergence of the deviatoric viscous stress S_i = 2 μ_i dev D_i, with
