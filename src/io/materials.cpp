@@ -4,6 +4,7 @@
 #include <fmt/ranges.h>
 
 #include <cmath>
+#include <optional>
 
 #include "core/errors.hpp"
 #include "io/schema.hpp"
@@ -101,8 +102,16 @@ json expand_material_preset(const json& material, const std::string& solver, dou
   json out = preset.value("common", json::object());
   json user = material;
   user.erase("preset");
+  // A solver section may give the porosity its continuum holds (a preset-file key, not a scene key): an SPH
+  // dough carries most of its gas as bubble particles, so its particles are the dough between them.
+  std::optional<double> section_porosity;
   if (preset.contains(solver)) {
-    out.merge_patch(preset[solver]);
+    json section = preset[solver];
+    if (section.contains("porosity")) {
+      section_porosity = section["porosity"].get<double>();
+      section.erase("porosity");
+    }
+    out.merge_patch(section);
   } else {
     const std::string other = solver == "mpm" ? "sph" : "mpm";
     const bool has_rheology = solver == "mpm" ? user.contains("youngs_modulus") : user.contains("viscosity");
@@ -119,6 +128,7 @@ json expand_material_preset(const json& material, const std::string& solver, dou
   std::optional<FoodComposition> food;
   if (preset.contains("composition")) {
     food = composition_of(preset["composition"]);
+    if (section_porosity) food->porosity = *section_porosity;
     const ThermalProperties t = preset_thermal(*food);
     if (!out.contains("density")) out["density"] = t.density;
     if (!out.contains("specific_heat")) out["specific_heat"] = t.specific_heat;
@@ -130,6 +140,14 @@ json expand_material_preset(const json& material, const std::string& solver, dou
       !(user.contains("water") && user["water"].is_object() && user["water"].contains("saturation")) &&
       out["density"].is_number())
     out["water"]["saturation"] = significant((*food)[FoodComponent::water] * out["density"].get<double>() / 1000.0);
+  // The moisture model's water and pores from the composition: X₀ = x_water / (1 − x_water) (dry basis) and the
+  // gas fraction φ_g = the porosity, unless the section or the scene gives them.
+  if (food && out.contains("moisture") && out["moisture"].is_object()) {
+    json& moisture = out["moisture"];
+    const double water = (*food)[FoodComponent::water];
+    if (!moisture.contains("content") && water < 1) moisture["content"] = significant(water / (1 - water));
+    if (!moisture.contains("gas_fraction")) moisture["gas_fraction"] = significant(food->porosity);
+  }
   std::vector<std::string> divided;
   for (const auto& p : preset.value("physical_times", json::array())) {
     const std::string key = p.get<std::string>();
@@ -160,8 +178,13 @@ std::string materials_markdown() {
       "fractions of water, protein, fat, carbohydrate, fibre and ash and the porosity (the volume share of air), by "
       "Choi & Okos (1986) (`src/physics/food_properties.hpp`; 1/ρ = Σ xᵢ/ρᵢ times 1 − ε, c = Σ xᵢcᵢ, k = Σ vᵢkᵢ "
       "with air in parallel). A scene's own density, specific_heat or conductivity wins.\n"
-      "* **Water** (MPM): `water.saturation` so the particles carry the composition's water: saturation = "
-      "x_water ρ / ρ_w.\n"
+      "* **Water**: MPM `water.saturation` so the particles carry the composition's water: saturation = "
+      "x_water ρ / ρ_w. A section with `moisture` (SPH) gets the composition's water as `moisture.content` "
+      "X₀ = x_water / (1 − x_water) (dry basis) and its porosity as `moisture.gas_fraction`, where the section or "
+      "the scene gives none.\n"
+      "* **Porosity per solver**: a solver section may give the porosity its particles hold (`\"porosity\"`, a "
+      "preset-file key): the SPH breads' particles are the dough between the gas cells that a scene gives as "
+      "bubble particles, so their section says 0.1 and their density, c_p, k and gas fraction follow from it.\n"
       "* **Mechanics** per solver (`mpm`, `sph`); a preset without a section for the scene's solver still gives "
       "its thermal properties when the scene gives the rheology.\n"
       "* **Physical viscosities.** The bake clock (`environment.bake_time_scale`) runs heat S times faster than "

@@ -240,8 +240,11 @@ TEST(BreadRoll, CoarseWholeBakeBrownsItsTopAndNotItsCrumb) {
 
 // Issue 22 item 1: the cookie of the cookie-dough preset in SPH (the same
 // preset and tray as the MPM cookie): it spreads as its butter melts, sets,
-// stays on the tray and bakes through; its core reaches 95 °C when the MPM
-// cookie's does, within a minute (both take the preset's thermal properties).
+// stays on the tray and bakes through. It carries its water (the preset's SPH
+// moisture, 0.167 kg/kg), so its moist dough stays at the boiling point and
+// its core reaches 95 °C later than the MPM cookie's (4.7 min at 3 mm), whose
+// water (the MPM paper's) takes no latent heat: 7.2 min at 3 mm and at 2 mm.
+// Without the water it took 4.4-4.8 min and its core ended at 157-160 °C.
 TEST(SphCookie, FromThePresetItSpreadsSetsAndBakesThrough) {
   // ~1,000 particles instead of 3,423.
   Scene scene = load_scene(std::string(BAKESIM_SOURCE_DIR) + "/scenes/cookie-on-a-tray-sph.json",
@@ -254,7 +257,7 @@ TEST(SphCookie, FromThePresetItSpreadsSetsAndBakesThrough) {
   };
   const auto before = compute_body_stats(solver.particles(), 1, Vec3::UnitY())[0];
   const double width0 = width(solver.particles());
-  double minutes_to_95 = -1, lowest = 1;
+  double minutes_to_95 = -1, lowest = 1, hottest_moist = 0;
   while (solver.time() < scene.end_time - 1e-12) {
     solver.step(std::min(solver.max_stable_dt(), scene.end_time - solver.time()));  // throws on NaN
     const auto& ps = solver.particles();
@@ -262,15 +265,21 @@ TEST(SphCookie, FromThePresetItSpreadsSetsAndBakesThrough) {
     if (minutes_to_95 < 0 && *std::min_element(temperature.begin(), temperature.end()) >= 95)
       minutes_to_95 = scene.oven.bake_time(solver.time()) / 60;
     for (const Vec3& x : ps.vector("position")) lowest = std::min(lowest, double(x.y()));
+    for (std::size_t i = 0; i < ps.size(); ++i)
+      if (ps.scalar("moisture")[i] > 0.1) hottest_moist = std::max(hottest_moist, double(temperature[i]));
   }
   const auto after = compute_body_stats(solver.particles(), 1, Vec3::UnitY())[0];
   const double width1 = width(solver.particles());
-  std::printf("SPH cookie: width %.1f -> %.1f mm, height %.1f -> %.1f mm, core 95 degC at %.2f min, lowest %.2f mm\n",
-              width0 * 1e3, width1 * 1e3, before.height() * 1e3, after.height() * 1e3, minutes_to_95, lowest * 1e3);
+  std::printf(
+      "SPH cookie: width %.1f -> %.1f mm, height %.1f -> %.1f mm, core 95 degC at %.2f min, lowest %.2f mm, "
+      "hottest moist dough %.1f degC\n",
+      width0 * 1e3, width1 * 1e3, before.height() * 1e3, after.height() * 1e3, minutes_to_95, lowest * 1e3,
+      hottest_moist);
   RecordProperty("minutes_to_95", std::to_string(minutes_to_95));
   EXPECT_GT(width1, 1.05 * width0);            // it spreads
   EXPECT_LT(after.height(), before.height());  // and flattens
-  EXPECT_GT(minutes_to_95, 3.0);               // the MPM cookie: 4.7 min at 3 mm
-  EXPECT_LT(minutes_to_95, 7.0);
-  EXPECT_GT(lowest, -0.001);  // on the tray (its top at y = 0)
+  EXPECT_GT(minutes_to_95, 5.0);               // later than the MPM cookie's 4.7 min (no latent heat there)
+  EXPECT_LT(minutes_to_95, 10.0);              // and within its 12-minute bake
+  EXPECT_LE(hottest_moist, 100.5);             // moist dough (above 0.1 kg/kg) stays at the boiling point
+  EXPECT_GT(lowest, -0.001);                   // on the tray (its top at y = 0)
 }

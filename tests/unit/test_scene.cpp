@@ -730,13 +730,44 @@ TEST(Scene, PresetThermalPropertiesAndWaterComeFromTheComposition) {
   EXPECT_NEAR(d["water"]["saturation"].get<double>() * 1000 / 1300, 0.1433, 1e-4);
 }
 
+// Issue 22 item 1: an SPH section's particles carry the composition's water (dry basis) with its porosity as the
+// pores' gas fraction; a section may give its own porosity (the lean dough's particles are the dough between the
+// bubble particles), which sets the thermal properties too; the scene's values win.
+TEST(Scene, SphPresetsCarryTheCompositionsWaterAndPores) {
+  json doc = base_scene();
+  doc["environment"] = {{"air_temperature", 180}, {"bake_time_scale", 400}};
+  doc["materials"]["water"] = {{"preset", "muffin-batter"}};
+  const json muffin = parse_scene(doc.dump(), "scene.json", ".").resolved["materials"]["water"];
+  const json composition = material_preset("muffin-batter", "test")["composition"];
+  const double x = composition["water"].get<double>();
+  EXPECT_NEAR(muffin["moisture"]["content"].get<double>(), x / (1 - x), 1e-3);
+  EXPECT_EQ(muffin["moisture"]["gas_fraction"], composition["porosity"]);
+  // Its viscosity is physical and divided by the clock: 20,000 Pa s at 20 degC (the MPM section's 40,000 halved).
+  EXPECT_DOUBLE_EQ(muffin["viscosity"]["points"][1][1].get<double>(), 20000.0 / 400);
+  doc["materials"]["water"] = {{"preset", "lean-bread-dough"}};
+  const json lean = parse_scene(doc.dump(), "scene.json", ".").resolved["materials"]["water"];
+  FoodComposition dough;
+  const char* keys[kFoodComponents] = {"water", "protein", "fat", "carbohydrate", "fibre", "ash"};  // enum order
+  for (int i = 0; i < kFoodComponents; ++i)
+    dough.mass_fraction[i] = material_preset("lean-bread-dough", "test")["composition"].value(keys[i], 0.0);
+  dough.porosity = 0.1;  // the SPH section's
+  EXPECT_NEAR(lean["density"].get<double>(), food_properties(dough, 20).density, 0.5);
+  EXPECT_EQ(lean["moisture"]["gas_fraction"], 0.1);
+  EXPECT_FALSE(lean.contains("porosity"));  // a preset-file key, not a scene key
+  doc["materials"]["water"]["moisture"] = {{"content", 0.5}, {"gas_fraction", 0.3}};
+  const json own = parse_scene(doc.dump(), "scene.json", ".").resolved["materials"]["water"];
+  EXPECT_EQ(own["moisture"]["content"], 0.5);
+  EXPECT_EQ(own["moisture"]["gas_fraction"], 0.3);
+  EXPECT_EQ(own["moisture"]["tortuosity"], 10);  // the rest of the preset's moisture stays
+}
+
 TEST(Scene, PresetsAreCheckedByNameAndSolver) {
   json typo = mpm_preset_scene(360);
   typo["materials"]["dough"]["preset"] = "cookie-dought";
   expect_error(typo, {"materials.dough.preset", "unknown preset 'cookie-dought'", "did you mean 'cookie-dough'"});
   json sph = base_scene();
-  sph["materials"]["water"] = {{"preset", "muffin-batter"}};
-  expect_error(sph, {"materials.water.preset", "'muffin-batter' has no SPH rheology", "viscosity"});
+  sph["materials"]["water"] = {{"preset", "apple-flesh"}};
+  expect_error(sph, {"materials.water.preset", "'apple-flesh' has no SPH rheology", "viscosity"});
   sph["materials"]["water"]["viscosity"] = 50;  // its thermal properties, the scene's rheology
   EXPECT_NO_THROW(parse_scene(sph.dump(), "scene.json", "."));
   json mpm = mpm_preset_scene(360);
