@@ -1,7 +1,8 @@
-// Issue 22 item 1: every food preset with an SPH section bakes in SPH. A
+// Issue 22 item 1: every food preset has an SPH section and bakes in SPH. A
 // 44 mm round of it in a muffin cup, 20 minutes at 180 °C, coarse (4 mm) for
 // CI: it stays finite and in its cup, comes to rest, its moist dough stays at
-// the boiling point, its core bakes, the outside sets and it loses water.
+// the boiling point, its core heats through, a setting food's outside sets and
+// it loses water.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -20,8 +21,9 @@ using nlohmann::json;
 namespace {
 
 // The presets with an SPH section and a composition (foods, not the thesis's dough).
-const char* kFoodPresetsWithSph[] = {"lean-bread-dough", "enriched-dough", "cookie-dough",
-                                     "sponge-batter",    "muffin-batter",  "pancake-batter"};
+const char* kFoodPresetsWithSph[] = {"lean-bread-dough", "enriched-dough", "cookie-dough", "sponge-batter",
+                                     "muffin-batter",    "pancake-batter", "marshmallow",  "dark-chocolate",
+                                     "apple-flesh",      "apple-skin"};
 
 constexpr double kCupRadius = 0.026, kCupFloor = 0.003, kSpacing = 0.004;
 
@@ -65,9 +67,17 @@ TEST_P(SphPreset, BakesInACupAtRestMoistBelowBoilingSetOnTheOutside) {
   const double set_temperature =
       material["set_temperature"].is_null() ? 1e9 : material["set_temperature"].get<double>();
   const double moisture0 = material["moisture"]["content"].get<double>();
-  ASSERT_GT(moisture0, 0.1) << "the preset's composition gives the moisture";
+  ASSERT_GT(moisture0, 0.0) << "the preset's composition gives the moisture";
+  // An elastic solid that never relaxes (the apple presets) must keep its shape.
+  const bool solid = material["relaxation_time"].is_number() && material["relaxation_time"].get<double>() >= 1e5;
   sph::SphSolver solver(scene.sph);
   const auto& ps = solver.particles();
+  auto height = [&ps] {
+    double lo = 1e9, hi = -1e9;
+    for (const Vec3& x : ps.vector("position")) lo = std::min(lo, double(x.y())), hi = std::max(hi, double(x.y()));
+    return hi - lo;
+  };
+  const double height0 = height();
   const auto& temperature = ps.scalar("temperature");
   const auto& moisture = ps.scalar("moisture");
   const auto& water = ps.scalar("water_mass");
@@ -92,18 +102,24 @@ TEST_P(SphPreset, BakesInACupAtRestMoistBelowBoilingSetOnTheOutside) {
     mass += ps.scalar("mass")[i];  // constant: drying does not lighten a particle's mechanics mass
     if (ps.scalar("peak_temperature")[i] >= set_temperature) ++set;
   }
-  const double weight_loss = (water0 - water1) / mass, set_share = double(set) / double(ps.size());
+  const double weight_loss = (water0 - water1) / mass, set_share = double(set) / double(ps.size()),
+               height_ratio = height() / height0;
   std::printf(
       "%s: %zu particles, fastest %.2g m/s, out of the cup by %.2g mm, coldest %.1f degC, hottest moist "
-      "%.1f degC, weight loss %.1f%% (%.0f%% of its water), set %.0f%%\n",
+      "%.1f degC, weight loss %.1f%% (%.0f%% of its water), set %.0f%%, height x%.2f\n",
       preset.c_str(), ps.size(), fastest, 1e3 * out_of_cup, coldest, hottest_moist, 100 * weight_loss,
-      100 * (1 - water1 / water0), 100 * set_share);
-  EXPECT_LT(fastest, 0.01);               // at rest: the bake's flows are mm/s of mechanics
+      100 * (1 - water1 / water0), 100 * set_share, height_ratio);
+  // Nothing sprays (the issue's SPH cookie that blew apart: 0.5 m/s); a melted chocolate still sloshes at
+  // about 1 cm/s of mechanics, an apple rings elastically at up to 3 cm/s, batters and doughs are below 1 cm/s.
+  EXPECT_LT(fastest, 0.05);
   EXPECT_LT(out_of_cup, 0.5 * kSpacing);  // in the cup (a particle's centre within half a spacing of its wall)
   EXPECT_LE(hottest_moist, 100.5);        // moist dough stays at the boiling point
   EXPECT_GT(coldest, 90.0);               // 20 minutes at 180 °C bake the core through (from 20 °C)
-  EXPECT_GT(weight_loss, 0.03);           // it dries: baked goods lose about 8-25% of their weight
+  EXPECT_GT(1 - water1 / water0, 0.05);   // it dries (baked goods lose about 8-25% of their weight)
   EXPECT_LT(weight_loss, 0.3);
+  if (solid) {
+    EXPECT_GT(height_ratio, 0.9);  // an elastic solid stands
+  }
   if (set_temperature < 1e9) {
     EXPECT_GT(set_share, 0.2);  // the outside has set
   }
