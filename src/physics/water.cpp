@@ -43,12 +43,17 @@ Real PoreWater::vapour_density(Real celsius, Real moisture_now) const {
 }
 
 Real PoreWater::step_diffusivity(Real hottest, Real density, Real specific_heat, Real volume_ratio) const {
+  // For the most expanded particle: its gas fraction has grown and its heat capacity and dry mass per volume
+  // have fallen by J. (Scaling the unexpanded value by J φ(J)/φ₀ instead divided by φ₀: a material without
+  // pores, φ₀ = 0, whose particles a density fluctuation expands by 1%, got a bound 10⁴ times too small.)
+  const Real j = std::max(volume_ratio, Real(1));
+  PoreWater expanded = *this;
+  expanded.gas_fraction = expanded_gas_fraction(j);
   const Real theta = std::min(hottest, boiling_point), dry = density / (1 + moisture);
   Real d = 0;
   for (const Real x : {moisture, 0.5 * moisture, 0.2 * moisture, 0.05 * moisture})
-    d = std::max(d, effective_diffusivity(theta, x, density * specific_heat, dry));
-  const Real j = std::max(volume_ratio, Real(1));
-  return d * j * expanded_gas_fraction(j) / std::max(gas_fraction, Real(1e-6));
+    d = std::max(d, expanded.effective_diffusivity(theta, x, density * specific_heat / j, dry / j));
+  return d;
 }
 
 Real PoreWater::cell_conductivity(Real celsius, Real moisture_now, Real phi) const {

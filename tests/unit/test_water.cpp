@@ -98,6 +98,28 @@ TEST(Water, TheStepBoundsDiffusivityGrowsTowardsTheBoilingPoint) {
   EXPECT_LT(k_vapour, 3.0);
 }
 
+// Found by the SPH apple-skin preset (no pores): a 1% density fluctuation made its step 10⁴ times too small.
+TEST(Water, TheStepBoundIsThatOfTheExpandedParticleEvenWithoutPores) {
+  PoreWater w;
+  w.moisture = 5.9, w.liquid_diffusivity = 2e-9;
+  const double rho = 1048, c = 3810, dry = rho / (1 + w.moisture);
+  for (const double phi0 : {0.0, 0.1, 0.6}) {
+    w.gas_fraction = phi0;
+    for (const double j : {1.0, 1.01, 2.0}) {
+      // By hand: the law of a particle at J times its volume, with gas fraction 1 − (1 − φ₀)/J.
+      PoreWater e = w;
+      e.gas_fraction = std::min(std::max(1 - (1 - phi0) / j, phi0), 0.95);
+      double expected = 0;
+      for (const double x : {1.0, 0.5, 0.2, 0.05})
+        expected = std::max(expected, e.effective_diffusivity(95, x * w.moisture, rho * c / j, dry / j));
+      EXPECT_NEAR(w.step_diffusivity(95, rho, c, j), expected, 1e-12 * expected) << phi0 << " " << j;
+    }
+  }
+  w.gas_fraction = 0;
+  // Without pores a 1% expansion adds 1% gas: the bound stays within a few times the liquid's and the unexpanded one.
+  EXPECT_LT(w.step_diffusivity(95, rho, c, 1.01), 10 * w.step_diffusivity(95, rho, c, 1.0) + 1e-7);
+}
+
 TEST(Water, CellHeatPipeIsTheVapourConductivityAcrossACellAndStopsWhenDryOrBoiling) {
   PoreWater w;
   w.moisture = 0.54;
