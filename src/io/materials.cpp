@@ -28,13 +28,6 @@ double significant(double v, int digits = 4) {
 
 const char* kComponentKeys[kFoodComponents] = {"water", "protein", "fat", "carbohydrate", "fibre", "ash"};
 
-FoodComposition composition_of(const json& c) {
-  FoodComposition f;
-  for (int i = 0; i < kFoodComponents; ++i) f.mass_fraction[i] = c.value(kComponentKeys[i], 0.0);
-  f.porosity = c.value("porosity", 0.0);
-  return f;
-}
-
 // A preset's thermal properties from its composition at 20 °C, rounded as the resolved scene shows them.
 ThermalProperties preset_thermal(const FoodComposition& food) {
   const ThermalProperties t = food_properties(food, 20.0);
@@ -77,6 +70,13 @@ std::vector<std::string> material_preset_names() {
   std::vector<std::string> names;
   for (std::size_t i = 0; i < kMaterialPresetCount; ++i) names.push_back(kMaterialPresetFiles[i].first);
   return names;
+}
+
+FoodComposition preset_composition(const json& c) {
+  FoodComposition f;
+  for (int i = 0; i < kFoodComponents; ++i) f.mass_fraction[i] = c.value(kComponentKeys[i], 0.0);
+  f.porosity = c.value("porosity", 0.0);
+  return f;
 }
 
 std::vector<std::string> preset_solvers(const json& preset) {
@@ -127,7 +127,7 @@ json expand_material_preset(const json& material, const std::string& solver, dou
   }
   std::optional<FoodComposition> food;
   if (preset.contains("composition")) {
-    food = composition_of(preset["composition"]);
+    food = preset_composition(preset["composition"]);
     if (section_porosity) food->porosity = *section_porosity;
     const ThermalProperties t = preset_thermal(*food);
     if (!out.contains("density")) out["density"] = t.density;
@@ -208,7 +208,7 @@ std::string materials_markdown() {
     double rho = common.value("density", NAN), c = common.value("specific_heat", NAN),
            k = common.value("conductivity", NAN), water = NAN, porosity = NAN;
     if (p.contains("composition")) {
-      const FoodComposition f = composition_of(p["composition"]);
+      const FoodComposition f = preset_composition(p["composition"]);
       const ThermalProperties t = preset_thermal(f);
       rho = t.density, c = t.specific_heat, k = t.conductivity;
       water = 100 * f[FoodComponent::water], porosity = f.porosity;

@@ -265,8 +265,9 @@ TEST(SphCookie, FromThePresetItSpreadsSetsAndBakesThrough) {
     if (minutes_to_95 < 0 && *std::min_element(temperature.begin(), temperature.end()) >= 95)
       minutes_to_95 = scene.oven.bake_time(solver.time()) / 60;
     for (const Vec3& x : ps.vector("position")) lowest = std::min(lowest, double(x.y()));
+    const auto& moisture = ps.scalar("moisture");
     for (std::size_t i = 0; i < ps.size(); ++i)
-      if (ps.scalar("moisture")[i] > 0.1) hottest_moist = std::max(hottest_moist, double(temperature[i]));
+      if (moisture[i] > 0.1) hottest_moist = std::max(hottest_moist, double(temperature[i]));
   }
   const auto after = compute_body_stats(solver.particles(), 1, Vec3::UnitY())[0];
   const double width1 = width(solver.particles());

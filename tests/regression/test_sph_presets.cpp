@@ -93,14 +93,16 @@ TEST_P(SphPreset, BakesInACupAtRestMoistBelowBoilingSetOnTheOutside) {
   }
   double fastest = 0, out_of_cup = 0, coldest = 1e9, water1 = 0, mass = 0;
   std::size_t set = 0;
+  const auto &position = ps.vector("position"), &velocity = ps.vector("velocity");
+  const auto &particle_mass = ps.scalar("mass"), &peak = ps.scalar("peak_temperature");
   for (std::size_t i = 0; i < ps.size(); ++i) {
-    const Vec3& x = ps.vector("position")[i];
-    fastest = std::max(fastest, double(ps.vector("velocity")[i].norm()));
+    const Vec3& x = position[i];
+    fastest = std::max(fastest, double(velocity[i].norm()));
     out_of_cup = std::max({out_of_cup, std::hypot(x.x(), x.z()) - kCupRadius, kCupFloor - x.y()});
     coldest = std::min(coldest, double(temperature[i]));
     water1 += water[i];
-    mass += ps.scalar("mass")[i];  // constant: drying does not lighten a particle's mechanics mass
-    if (ps.scalar("peak_temperature")[i] >= set_temperature) ++set;
+    mass += particle_mass[i];  // constant: drying does not lighten a particle's mechanics mass
+    if (peak[i] >= set_temperature) ++set;
   }
   const double weight_loss = (water0 - water1) / mass, set_share = double(set) / double(ps.size()),
                height_ratio = height() / height0;

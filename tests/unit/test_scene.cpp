@@ -746,10 +746,7 @@ TEST(Scene, SphPresetsCarryTheCompositionsWaterAndPores) {
   EXPECT_DOUBLE_EQ(muffin["viscosity"]["points"][1][1].get<double>(), 20000.0 / 400);
   doc["materials"]["water"] = {{"preset", "lean-bread-dough"}};
   const json lean = parse_scene(doc.dump(), "scene.json", ".").resolved["materials"]["water"];
-  FoodComposition dough;
-  const char* keys[kFoodComponents] = {"water", "protein", "fat", "carbohydrate", "fibre", "ash"};  // enum order
-  for (int i = 0; i < kFoodComponents; ++i)
-    dough.mass_fraction[i] = material_preset("lean-bread-dough", "test")["composition"].value(keys[i], 0.0);
+  FoodComposition dough = preset_composition(material_preset("lean-bread-dough", "test")["composition"]);
   dough.porosity = 0.1;  // the SPH section's
   EXPECT_NEAR(lean["density"].get<double>(), food_properties(dough, 20).density, 0.5);
   EXPECT_EQ(lean["moisture"]["gas_fraction"], 0.1);
