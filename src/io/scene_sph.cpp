@@ -83,6 +83,11 @@ sph::Settings build_settings(const Ctx& c, const json& doc) {
   st.surface_colour_threshold = sj["surface"]["colour_threshold"].get<double>();
   st.surface_hull_threshold = sj["surface"]["hull_threshold"].get<double>();
   st.surface_every = sj["surface"]["every_steps"].get<int>();
+  // The colour test runs every step (it is cheap and the exchange areas need it):
+  // a spacing between detections would be silently ignored.
+  if (st.surface_method == sph::SurfaceMethod::colour && st.surface_every != 1)
+    c.fail("solver.sph.surface.every_steps",
+           "spaces the \"convex_hull\" detections only; the \"colour\" method runs every step");
   st.surface_open_space = sj["surface"]["open_space"].get<bool>();
   st.viscosity_solver = sph::parse_viscosity_solver(sj["viscosity_solver"].get<std::string>());
   st.stress_viscosity = sj["viscosity_operator"].get<std::string>() == "stress";

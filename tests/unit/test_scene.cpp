@@ -928,6 +928,19 @@ TEST(Scene, SphStressViscosityIsImplicit) {
   EXPECT_FALSE(parse_scene(plain.dump(), "scene.json", ".").sph.settings.stress_viscosity);
 }
 
+// surface.every_steps spaces the convex-hull detections; with the colour
+// method (the default), which runs every step, a spacing is an error naming the key.
+TEST(Scene, SphSurfaceEveryStepsOnlyWithTheConvexHull) {
+  json doc = base_scene();
+  doc["solver"]["sph"]["surface"] = {{"method", "convex_hull"}, {"every_steps", 5}};
+  EXPECT_EQ(parse_scene(doc.dump(), "scene.json", ".").sph.settings.surface_every, 5);
+  json colour = base_scene();
+  colour["solver"]["sph"]["surface"] = {{"every_steps", 2}};
+  expect_error(colour, {"scene.json: solver.sph.surface.every_steps", "convex_hull"});
+  colour["solver"]["sph"]["surface"] = {{"every_steps", 1}};
+  EXPECT_EQ(parse_scene(colour.dump(), "scene.json", ".").sph.settings.surface_every, 1);
+}
+
 // Implicit elasticity rides on the implicit viscosity solve: explicit
 // viscosity with it is an error naming the key; the default is explicit.
 TEST(Scene, SphImplicitElasticityNeedsTheImplicitViscositySolve) {
