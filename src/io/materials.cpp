@@ -135,11 +135,6 @@ json expand_material_preset(const json& material, const std::string& solver, dou
     if (!out.contains("conductivity")) out["conductivity"] = t.conductivity;
   }
   out.merge_patch(user);
-  // The water the composition holds, as the MPM mixture carries it: mass = saturation ρ_w V.
-  if (solver == "mpm" && food && out.contains("water") && out["water"].is_object() &&
-      !(user.contains("water") && user["water"].is_object() && user["water"].contains("saturation")) &&
-      out["density"].is_number())
-    out["water"]["saturation"] = significant((*food)[FoodComponent::water] * out["density"].get<double>() / 1000.0);
   // The moisture model's water and pores from the composition: X₀ = x_water / (1 − x_water) (dry basis) and the
   // gas fraction φ_g = the porosity, unless the section or the scene gives them.
   if (food && out.contains("moisture") && out["moisture"].is_object()) {
@@ -147,6 +142,24 @@ json expand_material_preset(const json& material, const std::string& solver, dou
     const double water = (*food)[FoodComponent::water];
     if (!moisture.contains("content") && water < 1) moisture["content"] = significant(water / (1 - water));
     if (!moisture.contains("gas_fraction")) moisture["gas_fraction"] = significant(food->porosity);
+  }
+  // The water the composition holds, as the MPM mixture carries it: mass = saturation ρ_w V. Where the moisture
+  // model carries it (the material has `moisture`), the preset's saturation, surface evaporation rate and
+  // saturation diffusivity are left out (the scene check refuses them beside a moisture content; the scene never
+  // wrote them), so the water follows the moisture law as in SPH with the same preset; the scene's own are kept,
+  // so that the check names them.
+  const bool user_water = user.contains("water") && user["water"].is_object();
+  const bool moisture_carries_water = out.contains("moisture") && out["moisture"].is_object() &&
+                                      out["moisture"].contains("content") && out["moisture"]["content"].is_number() &&
+                                      out["moisture"]["content"].get<double>() > 0;
+  if (solver == "mpm" && out.contains("water") && out["water"].is_object()) {
+    json& water = out["water"];
+    if (moisture_carries_water) {
+      for (const char* key : {"saturation", "evaporation_rate", "diffusivity"})
+        if (!(user_water && user["water"].contains(key))) water.erase(key);
+    } else if (food && !(user_water && user["water"].contains("saturation")) && out["density"].is_number()) {
+      water["saturation"] = significant((*food)[FoodComponent::water] * out["density"].get<double>() / 1000.0);
+    }
   }
   std::vector<std::string> divided;
   for (const auto& p : preset.value("physical_times", json::array())) {
@@ -179,9 +192,11 @@ std::string materials_markdown() {
       "Choi & Okos (1986) (`src/physics/food_properties.hpp`; 1/ρ = Σ xᵢ/ρᵢ times 1 − ε, c = Σ xᵢcᵢ, k = Σ vᵢkᵢ "
       "with air in parallel). A scene's own density, specific_heat or conductivity wins.\n"
       "* **Water**: MPM `water.saturation` so the particles carry the composition's water: saturation = "
-      "x_water ρ / ρ_w. A section with `moisture` (SPH) gets the composition's water as `moisture.content` "
-      "X₀ = x_water / (1 − x_water) (dry basis) and its porosity as `moisture.gas_fraction`, where the section or "
-      "the scene gives none.\n"
+      "x_water ρ / ρ_w. A material with `moisture` (from its section or the scene, either solver) gets the "
+      "composition's water as `moisture.content` X₀ = x_water / (1 − x_water) (dry basis) and its porosity as "
+      "`moisture.gas_fraction`, where the section or the scene gives none; its water is then the moisture model's, "
+      "and MPM gets none of the section's `water.saturation`, `evaporation_rate` and `diffusivity` "
+      "(the moisture law moves that water, as in SPH).\n"
       "* **Porosity per solver**: a solver section may give the porosity its particles hold (`\"porosity\"`, a "
       "preset-file key): the SPH breads' particles are the dough between the gas cells that a scene gives as "
       "bubble particles, so their section says 0.1 and their density, c_p, k and gas fraction follow from it.\n"

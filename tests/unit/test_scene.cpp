@@ -758,6 +758,30 @@ TEST(Scene, SphPresetsCarryTheCompositionsWaterAndPores) {
   EXPECT_EQ(own["moisture"]["tortuosity"], 10);  // the rest of the preset's moisture stays
 }
 
+// An MPM scene that gives a preset material `moisture` takes its water from the moisture model: the preset
+// no longer fills the MPM `water.saturation` beside it (which the scene check refuses with a moisture
+// content, and which the scene could not leave out since it never wrote it).
+TEST(Scene, MpmPresetsWithMoistureCarryTheirWaterAsMoisture) {
+  json doc = mpm_preset_scene(600);
+  doc["materials"]["dough"] = {{"preset", "lean-bread-dough"}, {"moisture", {{"tortuosity", 10}}}};
+  const Scene scene = parse_scene(doc.dump(), "scene.json", ".");
+  const json& dough = scene.resolved["materials"]["dough"];
+  const double x = material_preset("lean-bread-dough", "test")["composition"]["water"].get<double>();
+  EXPECT_NEAR(dough["moisture"]["content"].get<double>(), x / (1 - x), 1e-3);
+  // The resolved scene holds the schema's defaults for what the preset no longer gives.
+  EXPECT_EQ(dough["water"]["saturation"], 0);
+  EXPECT_EQ(dough["water"]["evaporation_rate"], 0);
+  EXPECT_EQ(dough["water"]["stiffness"], 2000.0);  // the rest of the preset's MPM water law stays
+  // Without moisture the preset's MPM water is its saturation, as before.
+  doc["materials"]["dough"].erase("moisture");
+  const json plain = parse_scene(doc.dump(), "scene.json", ".").resolved["materials"]["dough"];
+  EXPECT_NEAR(plain["water"]["saturation"].get<double>(), x * plain["density"].get<double>() / 1000, 1e-3);
+  // A scene's own saturation beside a moisture content is still refused, naming the key.
+  doc["materials"]["dough"]["moisture"] = {{"content", 0.6}};
+  doc["materials"]["dough"]["water"] = {{"saturation", 0.4}};
+  expect_error(doc, {"materials.dough.water.saturation", "leave water.saturation out"});
+}
+
 TEST(Scene, PresetsAreCheckedByNameAndSolver) {
   json typo = mpm_preset_scene(360);
   typo["materials"]["dough"]["preset"] = "cookie-dought";
