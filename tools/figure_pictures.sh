@@ -7,7 +7,7 @@
 #   tools/figure_pictures.sh OUT [--threads N] [NAME ...]
 #
 # NAME picks figures by picture name (e.g. fig-3.3-dam-break); default: all.
-# About 10 minutes on 2 cores for the previews plus about 10 for the volcano.
+# About 25 minutes on 2 cores for the previews plus about 10 for the volcano.
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 BAKESIM="${BAKESIM:-$ROOT/build/app/bakesim}"
@@ -45,15 +45,34 @@ picture() {
   render_opts=("$@")
   bake "$scene" "${run_opts[@]}"
   echo "== $name: bakesim render $OUT/$scene ${render_opts[*]}"
+  cp "$(draw "$scene" "${render_opts[@]}")" "$OUT/pictures/$name.png"
+}
+
+# draw SCENE RENDER_OPTIONS: render the baked scene, print the picture the render names last.
+draw() {
+  local scene="$1"; shift
   local said
-  said="$("$BAKESIM" render "$OUT/$scene" --threads "$THREADS" "${render_opts[@]}" 2>&1 | tail -1)"
-  echo "$said"
-  local file
+  said="$("$BAKESIM" render "$OUT/$scene" --threads "$THREADS" "$@" 2>&1 | tail -1)"
+  echo "$said" >&2
   case "$said" in
-    *", strip "*) file="${said##*, strip }" ;;
-    *) file="${said##*: }" ;;
+    *", strip "*) echo "${said##*, strip }" ;;
+    *) echo "${said##*: }" ;;
   esac
-  cp "$file" "$OUT/pictures/$name.png"
+}
+
+# side_by_side NAME SCENE... [-- RENDER_OPTIONS]: each scene's preview, last frame, in one row (ffmpeg's hstack).
+side_by_side() {
+  local name="$1"; shift
+  wanted "$name" || return 0
+  local scenes=() inputs=() scene
+  while [ $# -gt 0 ] && [ "$1" != "--" ]; do scenes+=("$1"); shift; done
+  [ $# -gt 0 ] && shift
+  for scene in "${scenes[@]}"; do
+    bake "$scene" --preview
+    inputs+=(-i "$(draw "$scene" --width 640 --height 400 "$@")")
+  done
+  ffmpeg -loglevel error -y "${inputs[@]}" -filter_complex "hstack=inputs=${#scenes[@]}" "$OUT/pictures/$name.png"
+  echo "== $name: $OUT/pictures/$name.png"
 }
 
 STRIP=(--all --strip --width 320 --height 300)
@@ -67,12 +86,23 @@ picture fig-3.15-viscous-funnel viscous-funnel --preview -- "${STRIP[@]}"
 picture fig-3.16-viscous-funnel-thick viscous-funnel-thick --preview -- "${STRIP[@]}"
 picture fig-3.17-volcano volcano -- "${STRIP[@]}"
 picture fig-4.4cd-bread-roll-centred bread-roll-centred --preview -- --cut z
+picture fig-4.3-4.4ab-4.8-bread-roll bread-roll --preview -- --cut z
 picture fig-4.5-container-solidification container-solidification --preview -- --cut z --colour temperature
 picture fig-4.11-angel-food-cake angel-food-cake --preview -- --cut z
+picture fig-4.12-4.13-bread-of-the-dead bread-of-the-dead --preview --
 # The thermomechanical MPM paper (seed 003)
 picture paper-fig-6-dough-pull-twist dough-pull-twist --preview -- "${STRIP[@]}"
+picture paper-fig-9-dehydrating-fruit dehydrating-fruit --preview --
+picture paper-fig-10-bread-loaf-one-slit bread-loaf-one-slit --preview --
+picture paper-fig-10-bread-loaf-two-slits bread-loaf-two-slits --preview --
+picture paper-fig-10-bread-loaf-cut bread-loaf --preview -- --cut z
+side_by_side paper-fig-12-cookie-leavener cookie-leavener-low cookie-leavener-medium cookie-leavener-high \
+  -- --camera 0.075,0.06,0.095 --look-at 0,0.004,0
 picture paper-fig-13-pancake pancake --preview -- "${STRIP[@]}"
 picture paper-fig-13-pancake-cut pancake --preview -- --cut z
+picture paper-fig-14-muffin-tray muffin-tray --preview --
+picture paper-fig-15-lava-cake lava-cake --preview -- "${STRIP[@]}"
+picture paper-fig-15-lava-cake-cut lava-cake --preview -- --camera 0.11,0.09,0.15 --look-at 0,0.02,0
 picture paper-fig-16-smore smore --preview -- "${STRIP[@]}"
 picture paper-fig-18-bread-tear bread-tear --preview -- "${STRIP[@]}"
 echo "pictures in $OUT/pictures/"
