@@ -95,7 +95,7 @@ picture paper-fig-6-dough-pull-twist dough-pull-twist --preview -- "${STRIP[@]}"
 picture paper-fig-9-dehydrating-fruit dehydrating-fruit --preview --
 picture paper-fig-10-bread-loaf-one-slit bread-loaf-one-slit --preview --
 picture paper-fig-10-bread-loaf-two-slits bread-loaf-two-slits --preview --
-picture paper-fig-10-bread-loaf-cut bread-loaf --preview -- --cut z
+picture paper-fig-10-bread-loaf-cut bread-loaf --preview -- --cut z --camera 0.16,0.15,0.2 --look-at 0,0.045,-0.02
 side_by_side paper-fig-12-cookie-leavener cookie-leavener-low cookie-leavener-medium cookie-leavener-high \
   -- --camera 0.075,0.06,0.095 --look-at 0,0.004,0
 picture paper-fig-13-pancake pancake --preview -- "${STRIP[@]}"
