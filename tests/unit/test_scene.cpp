@@ -719,15 +719,19 @@ TEST(Scene, PresetThermalPropertiesAndWaterComeFromTheComposition) {
   EXPECT_NEAR(m["density"].get<double>(), t.density, 0.5);
   EXPECT_NEAR(m["specific_heat"].get<double>(), t.specific_heat, 0.5);
   EXPECT_NEAR(m["conductivity"].get<double>(), t.conductivity, 5e-4);
-  // The particles carry the composition's water: saturation ρ_w / ρ is its mass fraction.
-  EXPECT_NEAR(m["water"]["saturation"].get<double>() * 1000 / m["density"].get<double>(), 0.1433, 1e-4);
-  // A density the scene gives wins, and the water follows it.
+  // The particles carry the composition's water: the section's moisture (dry basis) X₀ = x / (1 − x).
+  EXPECT_NEAR(m["moisture"]["content"].get<double>(), 0.1433 / (1 - 0.1433), 1e-4);
+  // A density the scene gives wins.
   json denser = mpm_preset_scene(360);
   denser["materials"]["dough"]["density"] = 1300;
   const Scene dense = parse_scene(denser.dump(), "scene.json", ".");
-  const json& d = dense.resolved["materials"]["dough"];
-  EXPECT_EQ(d["density"], 1300);
-  EXPECT_NEAR(d["water"]["saturation"].get<double>() * 1000 / 1300, 0.1433, 1e-4);
+  EXPECT_EQ(dense.resolved["materials"]["dough"]["density"], 1300);
+  // A preset whose MPM section has no moisture (the muffin batter) carries the water as the paper's
+  // saturation ρ_w / ρ = its mass fraction, following the density the scene gives.
+  denser["materials"]["dough"]["preset"] = "muffin-batter";
+  const json muffin = parse_scene(denser.dump(), "scene.json", ".").resolved["materials"]["dough"];
+  const double x = material_preset("muffin-batter", "test")["composition"]["water"].get<double>();
+  EXPECT_NEAR(muffin["water"]["saturation"].get<double>() * 1000 / 1300, x, 1e-4);
 }
 
 // Issue 22 item 1: an SPH section's particles carry the composition's water (dry basis) with its porosity as the
@@ -763,10 +767,11 @@ TEST(Scene, SphPresetsCarryTheCompositionsWaterAndPores) {
 // content, and which the scene could not leave out since it never wrote it).
 TEST(Scene, MpmPresetsWithMoistureCarryTheirWaterAsMoisture) {
   json doc = mpm_preset_scene(600);
-  doc["materials"]["dough"] = {{"preset", "lean-bread-dough"}, {"moisture", {{"tortuosity", 10}}}};
+  // The muffin batter's MPM section has the paper's water only; the scene gives it moisture.
+  doc["materials"]["dough"] = {{"preset", "muffin-batter"}, {"moisture", {{"tortuosity", 10}}}};
   const Scene scene = parse_scene(doc.dump(), "scene.json", ".");
   const json& dough = scene.resolved["materials"]["dough"];
-  const double x = material_preset("lean-bread-dough", "test")["composition"]["water"].get<double>();
+  const double x = material_preset("muffin-batter", "test")["composition"]["water"].get<double>();
   EXPECT_NEAR(dough["moisture"]["content"].get<double>(), x / (1 - x), 1e-3);
   // The resolved scene holds the schema's defaults for what the preset no longer gives.
   EXPECT_EQ(dough["water"]["saturation"], 0);
