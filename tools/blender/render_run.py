@@ -42,13 +42,17 @@ def render_framed(bodies, png, resolution=(960, 540), samples=48, offset=(1.2, -
     scene.collection.objects.link(camera)
     scene.camera = camera
     sun = bpy.data.objects.new("sun", bpy.data.lights.new("sun", "SUN"))
-    sun.data.energy = 4
+    # Lit so that a face square to the sun shows about its albedo, and drawn with
+    # the Standard view transform (sRGB, as the ramp's measured colours are given)
+    # rather than Filmic, whose highlight roll-off paled a golden crust to cream.
+    sun.data.energy = 1.8
     sun.rotation_euler = (0.6, 0.2, 0.5)
     scene.collection.objects.link(sun)
-    scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.6, 0.65, 0.7, 1)
+    scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.4, 0.43, 0.47, 1)
     scene.render.engine = "CYCLES"
     scene.cycles.samples = samples
     scene.cycles.use_denoising = False  # Debian's Blender has no OpenImageDenoise
+    scene.view_settings.view_transform = "Standard"
     scene.render.resolution_x, scene.render.resolution_y = resolution
     scene.render.filepath = png
     bpy.ops.render.render(write_still=True)
