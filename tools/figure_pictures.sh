@@ -7,7 +7,8 @@
 #   tools/figure_pictures.sh OUT [--threads N] [NAME ...]
 #
 # NAME picks figures by picture name (e.g. fig-3.3-dam-break); default: all.
-# About 25 minutes on 2 cores for the previews plus about 10 for the volcano.
+# On 2 cores: about 10 minutes for the previews drawn on 2026-12-04, 13 for those
+# added on 2026-12-05 (the sums of their runs), and about 10 for the volcano.
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 BAKESIM="${BAKESIM:-$ROOT/build/app/bakesim}"
