@@ -726,12 +726,18 @@ TEST(Scene, PresetThermalPropertiesAndWaterComeFromTheComposition) {
   denser["materials"]["dough"]["density"] = 1300;
   const Scene dense = parse_scene(denser.dump(), "scene.json", ".");
   EXPECT_EQ(dense.resolved["materials"]["dough"]["density"], 1300);
-  // A preset whose MPM section has no moisture (the muffin batter) carries the water as the paper's
+  // A preset whose MPM section has no moisture (the enriched dough) carries the water as the paper's
   // saturation ρ_w / ρ = its mass fraction, following the density the scene gives.
+  denser["materials"]["dough"]["preset"] = "enriched-dough";
+  const json enriched = parse_scene(denser.dump(), "scene.json", ".").resolved["materials"]["dough"];
+  const double x = material_preset("enriched-dough", "test")["composition"]["water"].get<double>();
+  EXPECT_NEAR(enriched["water"]["saturation"].get<double>() * 1000 / 1300, x, 1e-4);
+  // One with moisture (the muffin batter) carries it as moisture content and no saturation.
   denser["materials"]["dough"]["preset"] = "muffin-batter";
   const json muffin = parse_scene(denser.dump(), "scene.json", ".").resolved["materials"]["dough"];
-  const double x = material_preset("muffin-batter", "test")["composition"]["water"].get<double>();
-  EXPECT_NEAR(muffin["water"]["saturation"].get<double>() * 1000 / 1300, x, 1e-4);
+  const double xm = material_preset("muffin-batter", "test")["composition"]["water"].get<double>();
+  EXPECT_NEAR(muffin["moisture"]["content"].get<double>(), xm / (1 - xm), 1e-4);
+  EXPECT_EQ(muffin["water"]["saturation"], 0);
 }
 
 // Issue 22 item 1: an SPH section's particles carry the composition's water (dry basis) with its porosity as the
@@ -767,11 +773,11 @@ TEST(Scene, SphPresetsCarryTheCompositionsWaterAndPores) {
 // content, and which the scene could not leave out since it never wrote it).
 TEST(Scene, MpmPresetsWithMoistureCarryTheirWaterAsMoisture) {
   json doc = mpm_preset_scene(600);
-  // The muffin batter's MPM section has the paper's water only; the scene gives it moisture.
-  doc["materials"]["dough"] = {{"preset", "muffin-batter"}, {"moisture", {{"tortuosity", 10}}}};
+  // The enriched dough's MPM section has the paper's water only; the scene gives it moisture.
+  doc["materials"]["dough"] = {{"preset", "enriched-dough"}, {"moisture", {{"tortuosity", 10}}}};
   const Scene scene = parse_scene(doc.dump(), "scene.json", ".");
   const json& dough = scene.resolved["materials"]["dough"];
-  const double x = material_preset("muffin-batter", "test")["composition"]["water"].get<double>();
+  const double x = material_preset("enriched-dough", "test")["composition"]["water"].get<double>();
   EXPECT_NEAR(dough["moisture"]["content"].get<double>(), x / (1 - x), 1e-3);
   // The resolved scene holds the schema's defaults for what the preset no longer gives.
   EXPECT_EQ(dough["water"]["saturation"], 0);
