@@ -30,8 +30,13 @@ RunGeometry run_geometry(const json& scene) {
   } else {
     g.spacing = scene.at("solver").at("sph").at("spacing").get<double>();
   }
-  for (const auto& [name, material] : scene.at("materials").items())
+  for (const auto& [name, material] : scene.at("materials").items()) {
     g.rest_density.push_back(material.at("density").get<double>());
+    const json raw = material.value("raw_colour", json());  // runs written before it: the dough's
+    g.raw_colour.push_back(raw.is_array() && raw.size() == 3
+                               ? surface::Lab{raw[0].get<double>(), raw[1].get<double>(), raw[2].get<double>()}
+                               : surface::dough_lab());
+  }
   const json& domain = scene.at("domain");
   g.domain = {scene_parts::vec3(domain.at("min")), scene_parts::vec3(domain.at("max"))};
   for (const auto& axis : domain.value("periodic", json::array()))
@@ -133,6 +138,16 @@ surface::ColourSamples colour_samples(const ParticleSet& ps, const RunGeometry& 
   for (Real& v : samples.value) v = (v - lo) / (hi - lo);
   if (const auto bubble = attribute_values(ps, "bubble"))
     for (Real b : *bubble) samples.bubble.push_back(b != 0 ? 1 : 0);
+  // Browning starts from each food's raw colour (where any material gives one).
+  const auto material = attribute_values(ps, "material_id");
+  const bool own_colours = std::any_of(run.raw_colour.begin(), run.raw_colour.end(), [](const surface::Lab& c) {
+    return surface::lab_distance(c, surface::dough_lab()) > 0;
+  });
+  if (settings.colour == "browning" && material && own_colours)
+    for (Real m : *material) {
+      const std::size_t k = std::size_t(std::max(0.0, m));
+      samples.raw.push_back(k < run.raw_colour.size() ? run.raw_colour[k] : surface::dough_lab());
+    }
   // Browning is the surface's own colour: the SPH surface particles (exchange area > 0) show it.
   if (settings.colour == "browning")
     if (const auto area = attribute_values(ps, "surface_area"))

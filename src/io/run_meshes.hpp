@@ -21,11 +21,12 @@ namespace bakesim {
 
 // What meshing needs to know about a run, read from its resolved scene.
 struct RunGeometry {
-  std::string solver;              // "sph" or "mpm"
-  Real spacing = 0.01;             // initial particle spacing, m
-  std::vector<Real> rest_density;  // SPH: by material id (materials in name order)
-  Aabb domain;                     // the domain box, its walls on its faces
-  std::array<bool, 3> periodic{};  // axes without walls (domain.periodic)
+  std::string solver;                    // "sph" or "mpm"
+  Real spacing = 0.01;                   // initial particle spacing, m
+  std::vector<Real> rest_density;        // SPH: by material id (materials in name order)
+  std::vector<surface::Lab> raw_colour;  // by material id: its raw_colour, the dough's where none
+  Aabb domain;                           // the domain box, its walls on its faces
+  std::array<bool, 3> periodic{};        // axes without walls (domain.periodic)
 };
 RunGeometry run_geometry(const nlohmann::json& resolved_scene);
 

@@ -406,6 +406,12 @@ Scene build_scene(json doc, const std::string& file, const std::string& base_dir
   sc.fps = doc["time"]["fps"].get<double>();
   if (sc.end_time * sc.fps > 1e6) c.fail("time", "more than a million frames: lower time.fps or time.end");
   require_box(c, "domain", vec3(doc["domain"]["min"]), vec3(doc["domain"]["max"]));
+  for (const auto& [name, m] : doc["materials"].items())
+    if (m["raw_colour"].is_array() &&
+        !(m["raw_colour"][0].get<double>() >= 0 && m["raw_colour"][0].get<double>() <= 100))
+      c.fail(
+          "materials." + name + ".raw_colour[0]",
+          fmt::format("L* is {:g}: a lightness runs from 0 (black) to 100 (white)", m["raw_colour"][0].get<double>()));
 
   const SceneParts parts = read_common(c, doc, solver_friction_model(sc.solver_type));
   sc.warnings = plausibility_warnings(c, doc, parts);

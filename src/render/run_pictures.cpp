@@ -178,7 +178,9 @@ RenderRunResult render_run(const fs::path& run_dir, const RenderRunOptions& o) {
         // The cut face: the same colouring as the surface, at every point of the plane inside the body.
         field.emplace(colour_samples(ps, geometry, mesh_opts), kColourSupport * geometry.spacing);
         frame_settings.cut_colour = [&, palette = bar.palette](const Vec3& x) {
-          return surface::palette_colour(palette, surface::value_of_colour_coordinate(field->uv_at(x)));
+          const Real value = surface::value_of_colour_coordinate(field->uv_at(x));
+          const std::optional<surface::Lab> raw = palette == surface::Palette::baking ? field->raw_at(x) : std::nullopt;
+          return raw ? surface::baking_colour(*raw, value) : surface::palette_colour(palette, value);
         };
         // And its crumb: pores where the dough rose (the same interpolation of the pore share, over twice the
         // support: a bubble particle is a pore of its own size, and the crumb's cells are drawn finer).
@@ -191,12 +193,15 @@ RenderRunResult render_run(const fs::path& run_dir, const RenderRunOptions& o) {
     }
     ParticleView pv;
     const std::vector<Real> values = particle_values(ps, colour);
+    // Browning starts from each particle's food colour (its material's raw_colour).
+    const surface::ColourSamples raw = colour_samples(ps, geometry, mesh_opts);
     for (std::size_t i = 0; i < ps.size(); ++i) {
       const Vec3& x = ps.vector("position")[i];
       if (settings.cut && settings.cut->removes(x)) continue;  // the cut view shows the particles behind the plane
       pv.position.push_back(x);
-      pv.colour.push_back(
-          surface::palette_colour(bar.palette, (values[i] - range.first) / (range.second - range.first)));
+      const Real value = (values[i] - range.first) / (range.second - range.first);
+      pv.colour.push_back(i < raw.raw.size() ? surface::baking_colour(raw.raw[i], value)
+                                             : surface::palette_colour(bar.palette, value));
     }
     pv.radius = 0.5 * geometry.spacing;
     return render_particles(pv, settings, text, tile ? nullptr : &bar, caption, props_at(f));

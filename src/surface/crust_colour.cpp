@@ -51,6 +51,16 @@ Lab crust_lab_of_browning(Real browning) {
   return crust_lab(BrowningKinetics{}.colour_difference(std::clamp(browning, Real(0), Real(1))));
 }
 
+Lab dough_lab() { return kPath[0]; }
+
+Lab crust_lab_of_browning(Real browning, const Lab& raw) {
+  const Lab on_path = crust_lab_of_browning(browning);
+  const Lab &dough = kPath[0], &darkest = kPath[kPathPoints - 1];
+  const Real fade = 1 - std::clamp(lab_distance(on_path, dough) / lab_distance(darkest, dough), Real(0), Real(1));
+  return {on_path.L + fade * (raw.L - dough.L), on_path.a + fade * (raw.a - dough.a),
+          on_path.b + fade * (raw.b - dough.b)};
+}
+
 std::array<Real, 3> lab_to_srgb(const Lab& c) {
   // L*a*b* → XYZ (CIE 15:2004, D65 white Xn 0.95047, Yn 1, Zn 1.08883).
   constexpr Real delta = 6.0 / 29.0;

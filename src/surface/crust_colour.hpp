@@ -26,6 +26,15 @@ struct Lab {
 Lab crust_lab(Real colour_difference);
 // The crust colour for a browning index B = ΔE / 52 (clamped to [0, 1]).
 Lab crust_lab_of_browning(Real browning);
+// The raw dough's colour, where the measured path starts.
+Lab dough_lab();
+// The same for a food whose raw surface has its own colour (a material's
+// `raw_colour`: chocolate, fruit): the measured path's point for B, offset by
+// the raw colour's difference from the dough, the offset fading linearly to
+// nothing at the path's darkest crust. B = 0 gives the raw colour, the burnt
+// end is every food's darkest crust, and the dough's own colour gives the
+// measured path unchanged.
+Lab crust_lab_of_browning(Real browning, const Lab& raw);
 // CIE L*a*b* (D65) → sRGB in [0, 1] (IEC 61966-2-1 transfer), out-of-gamut
 // components clamped.
 std::array<Real, 3> lab_to_srgb(const Lab& c);

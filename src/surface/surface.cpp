@@ -22,6 +22,8 @@
 
 namespace bakesim::surface {
 
+using Vec1 = Eigen::Matrix<Real, 1, 1>;  // a scalar for the Shepard sums, which also sum colours
+
 SurfaceMethod parse_surface_method(const std::string& name) {
   if (name == "levelset") return SurfaceMethod::levelset;
   if (name == "wyvill") return SurfaceMethod::wyvill;
@@ -307,18 +309,19 @@ Real value_of_colour_coordinate(Real u) {
   return std::clamp((u - kDoughOffset - kBaseCoordinate) / kValueScale, Real(0), Real(1));
 }
 
-template <class G>
-std::optional<Real> ColourField::shepard(const Vec3& x, const G& g) const {
+template <class R, class G>
+std::optional<R> ColourField::shepard(const Vec3& x, const G& g) const {
   if (!index_) return std::nullopt;
   thread_local std::vector<std::pair<std::size_t, Real>> found;  // the search reuses its storage
   index_->tree.radiusSearch(x.data(), support_ * support_, found, nanoflann::SearchParams(32, 0, false));
-  Real num = 0, den = 0;
+  R num = R::Zero();
+  Real den = 0;
   for (const auto& f : found) {
     const Real w = samples_.volume[f.first] * spline(std::sqrt(f.second), support_);  // Eq 4.5
     num += w * g(f.first);
     den += w;
   }
-  if (den > 0) return num / den;
+  if (den > 0) return R(num / den);
   return std::nullopt;
 }
 
@@ -330,7 +333,15 @@ std::size_t ColourField::nearest(const Vec3& x) const {
 }
 
 std::optional<Real> ColourField::uv_within(const Vec3& x) const {
-  return shepard(x, [&](std::size_t j) { return sample_g(samples_, j); });
+  const auto u = shepard<Vec1>(x, [&](std::size_t j) { return Vec1(sample_g(samples_, j)); });
+  return u ? std::optional<Real>((*u)(0)) : std::nullopt;
+}
+
+std::optional<Lab> ColourField::raw_at(const Vec3& x) const {
+  if (!index_ || samples_.raw.size() != samples_.position.size()) return std::nullopt;
+  const auto lab = [&](std::size_t j) { return Vec3(samples_.raw[j].L, samples_.raw[j].a, samples_.raw[j].b); };
+  const Vec3 c = shepard<Vec3>(x, lab).value_or(lab(nearest(x)));
+  return Lab{c.x(), c.y(), c.z()};
 }
 
 Real ColourField::uv_at(const Vec3& x) const {
@@ -342,7 +353,7 @@ Real ColourField::uv_at(const Vec3& x) const {
 Real ColourField::value_at(const Vec3& x) const {
   if (!index_) return 0;
   const auto value = [&](std::size_t j) { return std::clamp(samples_.value[j], 0.0, 1.0); };
-  if (const std::optional<Real> v = shepard(x, value)) return *v;
+  if (const auto v = shepard<Vec1>(x, [&](std::size_t j) { return Vec1(value(j)); })) return (*v)(0);
   return value(nearest(x));
 }
 
@@ -360,6 +371,8 @@ void assign_uv(SurfaceMesh& mesh, const ColourSamples& s, Real support) {
     if (!s.bubble.empty()) face.bubble.push_back(s.bubble[j]);
   }
   const ColourField face_field(std::move(face), support);
+  mesh.raw_colour.clear();
+  if (s.raw.size() == s.position.size()) mesh.raw_colour.resize(mesh.vertices.size());
   parallel_blocks(
       mesh.vertices.size(),
       [&](std::size_t vb, std::size_t ve) {
@@ -367,6 +380,7 @@ void assign_uv(SurfaceMesh& mesh, const ColourSamples& s, Real support) {
           const Vec3 x = mesh.vertices[v].cast<Real>();
           const std::optional<Real> u = face_field.uv_within(x);
           mesh.uv[v] = float(u ? *u : field.uv_at(x));
+          if (!mesh.raw_colour.empty()) mesh.raw_colour[v] = *field.raw_at(x);
         }
       },
       1024);
@@ -396,10 +410,19 @@ std::array<std::uint8_t, 3> palette_colour(Palette p, Real u) {
   return {mix(heat[k].r, heat[k + 1].r), mix(heat[k].g, heat[k + 1].g), mix(heat[k].b, heat[k + 1].b)};
 }
 
+std::array<std::uint8_t, 3> baking_colour(const Lab& raw, Real u) {
+  const auto rgb = lab_to_srgb(crust_lab_of_browning(std::clamp(u, 0.0, 1.0), raw));
+  return {std::uint8_t(std::lround(255.0 * rgb[0])), std::uint8_t(std::lround(255.0 * rgb[1])),
+          std::uint8_t(std::lround(255.0 * rgb[2]))};
+}
+
 void colour_vertices(SurfaceMesh& mesh, Palette p) {
   mesh.colours.resize(mesh.vertices.size());
-  for (std::size_t v = 0; v < mesh.vertices.size(); ++v)
-    mesh.colours[v] = palette_colour(p, value_of_colour_coordinate(v < mesh.uv.size() ? mesh.uv[v] : 0.0));
+  const bool raw = p == Palette::baking && mesh.raw_colour.size() == mesh.vertices.size();
+  for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
+    const Real value = value_of_colour_coordinate(v < mesh.uv.size() ? mesh.uv[v] : 0.0);
+    mesh.colours[v] = raw ? baking_colour(mesh.raw_colour[v], value) : palette_colour(p, value);
+  }
 }
 
 // ---- checks -----------------------------------------------------------------

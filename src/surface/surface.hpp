@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "core/types.hpp"
+#include "surface/crust_colour.hpp"
 
 namespace bakesim::surface {
 
@@ -32,6 +33,9 @@ struct SurfaceMesh {
   std::vector<std::array<std::uint32_t, 3>> triangles;  // counter-clockwise seen from outside
   std::vector<float> uv;                                // per vertex U = V (thesis Eq 4.5)
   std::vector<std::array<std::uint8_t, 3>> colours;     // per vertex sRGB
+  // Per vertex, the raw colour of the food there (materials' raw_colour, blended
+  // where two meet); empty: the dough's. The baking palette browns from it.
+  std::vector<Lab> raw_colour;
 };
 
 struct SurfaceParticles {
@@ -105,6 +109,9 @@ struct ColourSamples {
   // such particles within the support takes its colour from them alone: the
   // crust is one particle thick and the unbrowned crumb under it is not seen.
   std::vector<std::uint8_t> face;
+  // The raw colour of each particle's material (CIE L*a*b*), for the baking
+  // palette; may be empty (every particle the dough's colour).
+  std::vector<Lab> raw;
 };
 void assign_uv(SurfaceMesh& mesh, const ColourSamples& samples, Real support);
 
@@ -123,12 +130,15 @@ class ColourField {
   // nearest sample's where none lies within the support; 0 without samples
   // (the cut face's pore share).
   Real value_at(const Vec3& x) const;
+  // The samples' raw colours by the same Shepard sum (the nearest sample's
+  // where none lies within the support); none when the samples carry none.
+  std::optional<Lab> raw_at(const Vec3& x) const;
 
  private:
   struct Index;
   // Σ w_j g(j) / Σ w_j over the samples within the support (Eq 4.5's weights).
-  template <class G>
-  std::optional<Real> shepard(const Vec3& x, const G& g) const;
+  template <class R, class G>
+  std::optional<R> shepard(const Vec3& x, const G& g) const;
   std::size_t nearest(const Vec3& x) const;
   ColourSamples samples_;
   Real support_;
@@ -139,12 +149,14 @@ class ColourField {
 // crust colour at browning index B = u (crust_colour.hpp), heat blue → red.
 enum class Palette { baking, heat };
 std::array<std::uint8_t, 3> palette_colour(Palette p, Real u);
+// The baking palette for a food of raw colour `raw` (crust_lab_of_browning).
+std::array<std::uint8_t, 3> baking_colour(const Lab& raw, Real u);
 // The value fraction a colouring coordinate U (Eq 4.7, G = O + 0.8 v + 0.05)
 // stands for, read as dough's (O = 0.1): v = (U − 0.15) / 0.8 in [0, 1], so a
 // mesh shows a value in the colour the particles and the colour bar show it;
 // bubble particles' O = 0 still draws them an eighth of the scale paler.
 Real value_of_colour_coordinate(Real u);
-void colour_vertices(SurfaceMesh& mesh, Palette p);  // colours from uv
+void colour_vertices(SurfaceMesh& mesh, Palette p);  // colours from uv (and raw_colour: baking)
 
 // Checks used by tests and by `bakesim mesh` to report on what it wrote.
 struct MeshQuality {

@@ -69,6 +69,34 @@ TEST(CrustColour, TheBakingPaletteIsTheRampAndAMeshShowsDoughAtItsBrowning) {
   EXPECT_EQ(value_of_colour_coordinate(0.05), 0.0);  // raw bubbles: the dough's colour
 }
 
+// A food with its own raw colour (chocolate, fruit) browns from it: its crust colour for B is the dough's
+// path point offset by the raw colour's difference from the dough, the offset fading with the distance
+// travelled along the path (none at its darkest crust, 58.5 from the dough).
+TEST(CrustColour, AFoodWithItsOwnRawColourBrownsFromIt) {
+  const Lab chocolate{17.4, 2.6, 1.4}, dough = dough_lab();
+  const Lab darkest = crust_lab(1000);
+  const Real path_length = lab_distance(darkest, dough);
+  EXPECT_NEAR(path_length, std::sqrt(55.0 * 55.0 + 15.5 * 15.5 + 12.0 * 12.0), 1e-9);
+  for (const Real b : {0.0, 0.1, 0.3, 0.6, 1.0}) {
+    // The dough's own colour gives the measured path unchanged.
+    const Lab d = crust_lab_of_browning(b, dough), on_path = crust_lab_of_browning(b);
+    EXPECT_NEAR(lab_distance(d, on_path), 0, 1e-12) << b;
+    // The chocolate's crust lies off the path by (1 − travelled / path length) of its raw offset.
+    const Real travelled = BrowningKinetics{}.colour_difference(b);
+    EXPECT_NEAR(lab_distance(crust_lab_of_browning(b, chocolate), on_path),
+                (1 - travelled / path_length) * lab_distance(chocolate, dough), 1e-9)
+        << b;
+  }
+  const Lab raw = crust_lab_of_browning(0, chocolate);
+  EXPECT_NEAR(lab_distance(raw, chocolate), 0, 1e-12);  // unbaked: its raw colour
+  // Out of range browning is clamped as for the dough.
+  EXPECT_NEAR(lab_distance(crust_lab_of_browning(2, chocolate), crust_lab_of_browning(1, chocolate)), 0, 1e-12);
+  // In the palette: raw chocolate is dark brown, far darker than raw dough.
+  const auto c = baking_colour(chocolate, 0), p = palette_colour(Palette::baking, 0);
+  EXPECT_LT(int(c[0]) + c[1] + c[2] + 300, int(p[0]) + p[1] + p[2]);
+  EXPECT_GT(c[0], c[2]);  // warm, not grey-blue
+}
+
 TEST(CrustColour, TheBlenderAddOnRampIsTheLibrarysPalette) {
   std::ifstream in(std::string(BAKESIM_SOURCE_DIR) + "/tools/blender/bakesim_import/__init__.py");
   ASSERT_TRUE(in);

@@ -11,6 +11,7 @@
 #include "core/errors.hpp"
 #include "io/checkpoint.hpp"
 #include "io/materials.hpp"
+#include "io/run_meshes.hpp"
 #include "mpm/solver.hpp"
 #include "physics/food_properties.hpp"
 #include "io/scene.hpp"
@@ -791,6 +792,39 @@ TEST(Scene, MpmPresetsWithMoistureCarryTheirWaterAsMoisture) {
   doc["materials"]["dough"]["moisture"] = {{"content", 0.6}};
   doc["materials"]["dough"]["water"] = {{"saturation", 0.4}};
   expect_error(doc, {"materials.dough.water.saturation", "leave water.saturation out"});
+}
+
+// Issue 23: a material's raw_colour (CIE L*a*b*) is what its particles brown from in pictures and meshes: a
+// preset gives it (dark chocolate's measured colour), the run's geometry reads it by material id (materials in
+// name order), the colour samples carry it per particle, and a lightness outside 0-100 is refused by its path.
+TEST(Scene, RawColoursComeFromPresetsAndReachTheColourSamples) {
+  json doc = base_scene();
+  doc["materials"]["chocolate"] = {{"preset", "dark-chocolate"}};
+  const Scene scene = parse_scene(doc.dump(), "scene.json", ".");
+  EXPECT_EQ(scene.resolved["materials"]["chocolate"]["raw_colour"], json::parse("[17.4, 2.6, 1.4]"));
+  EXPECT_TRUE(scene.resolved["materials"]["water"]["raw_colour"].is_null());  // the schema's default: none
+  const RunGeometry g = run_geometry(scene.resolved);
+  ASSERT_EQ(g.raw_colour.size(), 2u);
+  EXPECT_DOUBLE_EQ(g.raw_colour[0].L, 17.4);  // "chocolate" sorts before "water"
+  EXPECT_DOUBLE_EQ(g.raw_colour[1].L, surface::dough_lab().L);
+  ParticleSet ps;
+  ps.add_vector("position", "m");
+  ps.add_scalar("browning", "");
+  std::vector<std::int32_t>& material = ps.add_int("material_id");
+  ps.resize(2);
+  material[0] = 1, material[1] = 0;
+  const surface::ColourSamples samples = colour_samples(ps, g, MeshSettings{});
+  ASSERT_EQ(samples.raw.size(), 2u);
+  EXPECT_DOUBLE_EQ(samples.raw[0].L, 80.0);
+  EXPECT_DOUBLE_EQ(samples.raw[1].L, 17.4);
+  // A scene of doughs only carries none (the dough's path, as before raw colours).
+  doc["materials"].erase("chocolate");
+  EXPECT_TRUE(colour_samples(ps, run_geometry(parse_scene(doc.dump(), "scene.json", ".").resolved), MeshSettings{})
+                  .raw.empty());
+  doc["materials"]["water"]["raw_colour"] = {120, 0, 0};
+  expect_error(doc, {"materials.water.raw_colour[0]", "L* is 120"});
+  doc["materials"]["water"]["raw_colour"] = {50, 0};
+  expect_error(doc, {"materials.water.raw_colour"});
 }
 
 TEST(Scene, PresetsAreCheckedByNameAndSolver) {

@@ -108,6 +108,44 @@ TEST(SurfaceMesh, ColouringFollowsTheParticlesAndTellsBubblesFromDough) {
   EXPECT_GT(int(pale[0]) + pale[1] + pale[2], int(brown[0]) + brown[1] + brown[2] + 200);
 }
 
+// Two foods side by side, one with its own raw colour (chocolate, L* 17.4): each vertex takes the raw
+// colour of the particles under it (ColourSamples::raw, from the materials' raw_colour), so the chocolate
+// half is drawn dark and the dough half in the dough's palette, both unbrowned here.
+TEST(SurfaceMesh, EachFoodIsDrawnFromItsOwnRawColour) {
+  const Real s = 0.004;
+  const SurfaceParticles p = ball(0.03, s, Vec3::Zero());
+  SurfaceMesh mesh = reconstruct_surface(p, SurfaceOptions{});
+  const Lab chocolate{17.4, 2.6, 1.4};
+  ColourSamples samples;
+  samples.position = p.position;
+  samples.volume.assign(p.position.size(), s * s * s);
+  for (const Vec3& x : p.position) {
+    samples.value.push_back(0.0);
+    samples.raw.push_back(x.x() < 0 ? chocolate : dough_lab());
+  }
+  assign_uv(mesh, samples, 2 * s);
+  colour_vertices(mesh, Palette::baking);
+  ASSERT_EQ(mesh.raw_colour.size(), mesh.vertices.size());
+  const auto dark = baking_colour(chocolate, 0), pale = palette_colour(Palette::baking, 0);
+  int nd = 0, np = 0;
+  for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
+    const Real x = mesh.vertices[v].x();
+    if (std::abs(x) < 3 * s) continue;  // where the two meet, the colours blend over the support
+    const auto want = x < 0 ? dark : pale;
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(mesh.colours[v][k], want[k], 1) << x;
+    ++(x < 0 ? nd : np);
+  }
+  EXPECT_GT(nd, 100);
+  EXPECT_GT(np, 100);
+  // Without raw colours every vertex is the dough's.
+  samples.raw.clear();
+  assign_uv(mesh, samples, 2 * s);
+  colour_vertices(mesh, Palette::baking);
+  EXPECT_TRUE(mesh.raw_colour.empty());
+  for (const auto& c : mesh.colours)
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(c[k], pale[k], 1);
+}
+
 // The crust is what one sees: a ball whose outer particle layer is browned
 // (value 1, flagged as the surface) over a pale interior (0). Without the
 // flags every vertex mixes the crust with the crumb under it within the
