@@ -1,7 +1,8 @@
-"""Run inside Blender (blender -b --factory-startup --python THIS -- ZIP RUN_DIR [PNG]):
+"""Run inside Blender (blender -b --factory-startup --python THIS -- ZIP RUN_DIR CHOCOLATE_RUN_DIR [PNG]):
 install and enable the bakesim add-on from its zip as Preferences > Install does,
-import a run with its operator and check what it built; with PNG, render the
-last frame there with Cycles."""
+import a run with its operator and check what it built, then the same body as
+chocolate (a material raw_colour) with its vertex colours; with PNG, render the
+first run's last frame there with Cycles."""
 import json
 import os
 import sys
@@ -9,8 +10,8 @@ import sys
 import bpy
 
 args = sys.argv[sys.argv.index("--") + 1:]
-zip_path, run = args[0], args[1]
-png = args[2] if len(args) > 2 else None
+zip_path, run, chocolate_run = args[0], args[1], args[2]
+png = args[3] if len(args) > 3 else None
 bpy.ops.preferences.addon_install(filepath=zip_path, overwrite=True)
 bpy.ops.preferences.addon_enable(module="bakesim_import")
 assert hasattr(bpy.ops.import_scene, "bakesim_run"), "the add-on did not register its operator"
@@ -42,6 +43,17 @@ scene.frame_set(frames[-1] + 1)
 last = [v.co.copy() for v in paddle.data.vertices]
 assert max((a - b).length for a, b in zip(first, last)) > 1e-4, "the moving collider did not move"
 assert f"{name}_ghost" not in bpy.data.objects, "a hidden collider was imported"
+# A food with its own raw colour: the material shows the PLY's vertex colours, dark for chocolate.
+result = bpy.ops.import_scene.bakesim_run(directory=chocolate_run)
+assert result == {"FINISHED"}, result
+chocolate = bpy.data.objects["blender-check-chocolate_bodies"]
+material = chocolate.data.materials[0]
+assert material.name == "bakesim_food_colours" and "bakesim_vertex_colours" in material.node_tree.nodes, material.name
+attributes = getattr(chocolate.data, "color_attributes", None) or chocolate.data.vertex_colors
+values = [c for d in attributes[0].data for c in tuple(d.color)[:3]]
+mean = sum(values) / len(values)
+assert mean < 0.25, f"chocolate's vertex colours average {mean} (linear), not dark"
+assert bodies.data.materials[0].name == "bakesim_baking"  # the dough run keeps the ramp
 if png:  # the picture, framed and lit as tools/blender/render_run.py does
     sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools", "blender"))
     from render_run import render_framed

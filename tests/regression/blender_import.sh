@@ -14,11 +14,16 @@ sed -e 's|"bodies": \[|"name": "blender-check", "colliders": [{"name": "tray", "
   "$ROOT/tests/data/good_small.json" >"$OUT/scene.json"
 "$BAKESIM" run "$OUT/scene.json" --out "$OUT/run" --quiet || exit 1
 "$BAKESIM" mesh "$OUT/run" 2>/dev/null || exit 1
+# The same body as chocolate (a raw_colour): imported with the vertex colours bakesim gave it.
+sed -e 's|"density": 1000}|"density": 1000, "raw_colour": [17.4, 2.6, 1.4]}|' -e 's|"blender-check"|"blender-check-chocolate"|' \
+  "$OUT/scene.json" >"$OUT/chocolate.json"
+"$BAKESIM" run "$OUT/chocolate.json" --out "$OUT/chocolate" --quiet || exit 1
+"$BAKESIM" mesh "$OUT/chocolate" 2>/dev/null || exit 1
 python3 "$ROOT/tools/blender/make_addon.py" "$OUT" >/dev/null || exit 1
 # A user folder of its own, so the add-on is not installed into the machine's Blender configuration.
 export BLENDER_USER_CONFIG="$OUT/config" BLENDER_USER_SCRIPTS="$OUT/scripts"
 blender -b --factory-startup --python "$ROOT/tests/regression/blender_check.py" -- \
-  "$OUT/bakesim_import.zip" "$OUT/run" ${BLENDER_CHECK_PNG:+"$BLENDER_CHECK_PNG"} >"$OUT/blender.txt" 2>&1
+  "$OUT/bakesim_import.zip" "$OUT/run" "$OUT/chocolate" ${BLENDER_CHECK_PNG:+"$BLENDER_CHECK_PNG"} >"$OUT/blender.txt" 2>&1
 grep -q "blender_check: ok" "$OUT/blender.txt" && { echo "ok: $(grep 'blender_check: ok' "$OUT/blender.txt")"; exit 0; }
 cat "$OUT/blender.txt"
 exit 1

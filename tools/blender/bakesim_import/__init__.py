@@ -12,7 +12,10 @@ What it builds from RUN_DIR (after `bakesim mesh RUN_DIR`):
     frame change to meshes/NNNNN.ply of that frame (bakesim frame N shows on
     Blender frame N + 1), with the material "bakesim_baking": its colour ramp
     reads the mesh's U coordinate (thesis Eq 4.5-4.7: 0.15 + 0.8 x the colouring
-    quantity, browning by default) through the UV map the PLY carries;
+    quantity, browning by default) through the UV map the PLY carries; where the
+    scene's materials give their own raw colours (chocolate, fruit),
+    "bakesim_food_colours" shows the PLY's vertex colours instead (bakesim
+    browns each food from its own colour);
   * the colliders of meshes/colliders/: NAME.ply as a still object, NAME-NNNNN.ply
     as an object swapped per frame like the bodies, each with a material for the
     look scene.json gives it (metal, ceramic, glass, wood, stone);
@@ -98,6 +101,33 @@ def _baking_material():
     return mat
 
 
+def _colour_attribute_name(mesh):
+    """The name of the vertex colour layer Blender's PLY importer made from the PLY's colours, or None."""
+    attributes = getattr(mesh, "color_attributes", None)  # Blender 3.2+
+    if attributes is not None and len(attributes) > 0:
+        return attributes[0].name
+    layers = getattr(mesh, "vertex_colors", None)
+    return layers[0].name if layers else None
+
+
+def _food_colour_material(layer):
+    """Foods with their own raw colours (a material's raw_colour: chocolate, fruit): the dough's ramp would
+    draw them as dough, so the material shows the PLY's vertex colours, which bakesim computed per food."""
+    mat = bpy.data.materials.get("bakesim_food_colours") or bpy.data.materials.new("bakesim_food_colours")
+    mat.use_nodes = True
+    nodes, links = mat.node_tree.nodes, mat.node_tree.links
+    for n in list(nodes):
+        if n.type not in ("BSDF_PRINCIPLED", "OUTPUT_MATERIAL"):
+            nodes.remove(n)
+    bsdf = nodes.get("Principled BSDF")
+    colour = nodes.new("ShaderNodeVertexColor")
+    colour.name = "bakesim_vertex_colours"
+    colour.layer_name = layer
+    links.new(colour.outputs["Color"], bsdf.inputs["Base Color"])
+    bsdf.inputs["Roughness"].default_value = 0.75
+    return mat
+
+
 def _look_material(look):
     name = f"bakesim_{look}"
     mat = bpy.data.materials.get(name)
@@ -178,7 +208,12 @@ def import_run(run_dir):
     bodies = {int(f[:5]) + 1: _import_ply(os.path.join(meshes_dir, f)) for f in files}
     for frame, mesh in bodies.items():
         mesh.name = f"{name}_{frame - 1:05d}"
-    _sequence_object(f"{name}_bodies", bodies, _baking_material(), root)
+    material = _baking_material()
+    own_colours = any(isinstance(m, dict) and m.get("raw_colour") for m in scene_doc.get("materials", {}).values())
+    layer = _colour_attribute_name(bodies[min(bodies)])
+    if own_colours and layer:
+        material = _food_colour_material(layer)
+    _sequence_object(f"{name}_bodies", bodies, material, root)
     looks = {_file_name(c["name"]): c.get("look", "auto") for c in scene_doc.get("colliders", [])}
     shapes = {_file_name(c["name"]): c.get("shape", {}).get("type") for c in scene_doc.get("colliders", [])}
     colliders_dir = os.path.join(meshes_dir, "colliders")
