@@ -43,8 +43,10 @@ def topping():
 
 
 def main(path):
+    # As the default roll's (scenes/bread-roll.json): bubbles vent where they face the oven air, so the
+    # skin stays dough and browns.
     bubbles = {"fraction": 0.4, "distribution": "uniform", "pressure_scale": 12000.0, "max_expansion": 2.5,
-               "end_temperature": 100.0}
+               "end_temperature": 100.0, "vent_at_surface": True}
     scene = {
         "format": "bakesim-scene/1",
         "name": "bread-of-the-dead",
@@ -53,19 +55,25 @@ def main(path):
                         "dough is smooth and elastic even raw (mu_e 8000 Pa when cold, rising to 5e4 Pa as it "
                         "sets, Zhang relaxation time), so the bones and the ball keep their shape while the loaf "
                         "rises on a 180 degC tray under 220 degC air. Bake clock 750: 2 s of mechanics are a "
-                        "25-minute bake."),
+                        "25-minute bake. Water, oven and crust as the default roll's (scenes/bread-roll.json): "
+                        "moisture 0.85 kg per kg of dry solid leaving by boiling at the evaporation front "
+                        "(environment.mass_transfer_coefficient 0), the oven's walls radiating (emissivity 0.9), "
+                        "a dried crust of 0.1 W/(m K), bubbles venting at the surface; so the crumb stops at the "
+                        "boiling point while the crust dries and browns."),
         "solver": {"type": "sph",
                    "sph": {"spacing": SPACING, "smoothing_ratio": 2.0, "speed_of_sound": 5.0},
                    "cfl": 0.4, "max_dt": 0.001},
         "time": {"end": 2.0, "fps": 20},
         "domain": {"min": [-0.08, 0.0, -0.08], "max": [0.08, 0.14, 0.08]},
         "gravity": [0.0, -9.81, 0.0],
-        "environment": {"air_temperature": 220.0, "heat_transfer_coefficient": 25.0, "bake_time_scale": 750.0},
+        "environment": {"air_temperature": 220.0, "heat_transfer_coefficient": 25.0, "bake_time_scale": 750.0,
+                        "mass_transfer_coefficient": 0.0, "emissivity": 0.9},
         "materials": {
             "elastic-dough": {
                 "preset": "dough",
                 "viscosity": {"curve": "piecewise_linear", "points": [[26, 5.0], [120, 50.0]]},
-                "elasticity": {"curve": "piecewise_linear", "points": [[26, 8000.0], [45, 8000.0], [120, 50000.0]]}
+                "elasticity": {"curve": "piecewise_linear", "points": [[26, 8000.0], [45, 8000.0], [120, 50000.0]]},
+                "moisture": {"content": 0.85, "gas_fraction": 0.1, "tortuosity": 10, "dry_conductivity": 0.1}
             }
         },
         "bodies": [
