@@ -76,14 +76,21 @@ def _import_ply(path):
     return mesh
 
 
-def _baking_material():
-    mat = bpy.data.materials.get("bakesim_baking") or bpy.data.materials.new("bakesim_baking")
+def _body_material(name):
+    """The material `name` reduced to its Principled BSDF and output (rebuilt on each import): (mat, bsdf)."""
+    mat = bpy.data.materials.get(name) or bpy.data.materials.new(name)
     mat.use_nodes = True
-    nodes, links = mat.node_tree.nodes, mat.node_tree.links
-    for n in list(nodes):
+    for n in list(mat.node_tree.nodes):
         if n.type not in ("BSDF_PRINCIPLED", "OUTPUT_MATERIAL"):
-            nodes.remove(n)
-    bsdf = nodes.get("Principled BSDF")
+            mat.node_tree.nodes.remove(n)
+    bsdf = mat.node_tree.nodes.get("Principled BSDF")
+    bsdf.inputs["Roughness"].default_value = 0.75
+    return mat, bsdf
+
+
+def _baking_material():
+    mat, bsdf = _body_material("bakesim_baking")
+    nodes, links = mat.node_tree.nodes, mat.node_tree.links
     uv = nodes.new("ShaderNodeUVMap")
     split = nodes.new("ShaderNodeSeparateXYZ")
     ramp = nodes.new("ShaderNodeValToRGB")
@@ -97,7 +104,6 @@ def _baking_material():
     links.new(uv.outputs["UV"], split.inputs[0])
     links.new(split.outputs["X"], ramp.inputs["Fac"])
     links.new(ramp.outputs["Color"], bsdf.inputs["Base Color"])
-    bsdf.inputs["Roughness"].default_value = 0.75
     return mat
 
 
@@ -113,18 +119,12 @@ def _colour_attribute_name(mesh):
 def _food_colour_material(layer):
     """Foods with their own raw colours (a material's raw_colour: chocolate, fruit): the dough's ramp would
     draw them as dough, so the material shows the PLY's vertex colours, which bakesim computed per food."""
-    mat = bpy.data.materials.get("bakesim_food_colours") or bpy.data.materials.new("bakesim_food_colours")
-    mat.use_nodes = True
+    mat, bsdf = _body_material("bakesim_food_colours")
     nodes, links = mat.node_tree.nodes, mat.node_tree.links
-    for n in list(nodes):
-        if n.type not in ("BSDF_PRINCIPLED", "OUTPUT_MATERIAL"):
-            nodes.remove(n)
-    bsdf = nodes.get("Principled BSDF")
     colour = nodes.new("ShaderNodeVertexColor")
     colour.name = "bakesim_vertex_colours"
     colour.layer_name = layer
     links.new(colour.outputs["Color"], bsdf.inputs["Base Color"])
-    bsdf.inputs["Roughness"].default_value = 0.75
     return mat
 
 
