@@ -388,12 +388,7 @@ void assign_uv(SurfaceMesh& mesh, const ColourSamples& s, Real support) {
 
 std::array<std::uint8_t, 3> palette_colour(Palette p, Real u) {
   u = std::clamp(u, 0.0, 1.0);
-  if (p == Palette::baking) {
-    // The measured crust colour at browning index u (crust_colour.hpp).
-    const auto rgb = lab_to_srgb(crust_lab_of_browning(u));
-    return {std::uint8_t(std::lround(255.0 * rgb[0])), std::uint8_t(std::lround(255.0 * rgb[1])),
-            std::uint8_t(std::lround(255.0 * rgb[2]))};
-  }
+  if (p == Palette::baking) return baking_colour(dough_lab(), u);  // the measured crust colour (crust_colour.hpp)
   struct Stop {
     Real at, r, g, b;
   };
