@@ -302,18 +302,26 @@ std::optional<CrustColour> crust_colour(const fs::path& ply, const json& scene, 
     MeshSettings settings;
     settings.colour = "browning";
     const surface::SurfaceMesh mesh = frame_mesh(ps, run_geometry(scene), settings);
+    // Foods with their own raw colours (chocolate, fruit) are shown browned from their mean raw colour.
+    const bool own_colours = mesh.raw_colour.size() == mesh.vertices.size();
     double area = 0, weighted = 0;
+    Vec3 raw_sum = Vec3::Zero();
     for (const auto& t : mesh.triangles) {
       const Vec3 a = mesh.vertices[t[0]].cast<Real>(), b = mesh.vertices[t[1]].cast<Real>(),
                  c = mesh.vertices[t[2]].cast<Real>();
       const double A = 0.5 * (b - a).cross(c - a).norm();
       area += A;
       weighted += A * (mesh.uv[t[0]] + mesh.uv[t[1]] + mesh.uv[t[2]]) / 3.0;
+      if (own_colours)
+        for (const auto k : t)
+          raw_sum += A / 3.0 * Vec3(mesh.raw_colour[k].L, mesh.raw_colour[k].a, mesh.raw_colour[k].b);
     }
     if (!(area > 0)) return std::nullopt;
     CrustColour cc;
     cc.browning = surface::value_of_colour_coordinate(weighted / area);
-    const auto rgb = surface::palette_colour(surface::Palette::baking, cc.browning);
+    const Vec3 raw = raw_sum / area;
+    const auto rgb = own_colours ? surface::baking_colour({raw.x(), raw.y(), raw.z()}, cc.browning)
+                                 : surface::palette_colour(surface::Palette::baking, cc.browning);
     cc.hex = fmt::format("#{:02x}{:02x}{:02x}", rgb[0], rgb[1], rgb[2]);
     return cc;
   } catch (const std::exception& e) {
