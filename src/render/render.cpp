@@ -514,7 +514,9 @@ Image trace(RayScene& rs, const Aabb& bodies, const RenderSettings& s, const Sur
 void draw_colour_bar(Image& img, const ColourBar& bar, const TextRenderer& text) {
   const int x0 = img.width - 110, x1 = x0 + 22, y0 = img.height / 5, y1 = img.height * 4 / 5;
   for (int y = y0; y <= y1; ++y) {
-    const auto c = surface::palette_colour(bar.palette, double(y1 - y) / double(y1 - y0));
+    const double t = double(y1 - y) / double(y1 - y0);
+    const auto c = bar.raw && bar.palette == surface::Palette::baking ? surface::baking_colour(*bar.raw, t)
+                                                                      : surface::palette_colour(bar.palette, t);
     for (int x = x0; x <= x1; ++x) img.set(x, y, c);
   }
   for (int y = y0 - 1; y <= y1 + 1; ++y) img.set(x0 - 1, y, {40, 40, 40}), img.set(x1 + 1, y, {40, 40, 40});

@@ -65,6 +65,8 @@ struct ColourBar {
   std::string label;
   Real low = 0, high = 1;
   surface::Palette palette = surface::Palette::heat;
+  // The baking palette browned from this raw colour: the one food of a scene whose foods share it.
+  std::optional<surface::Lab> raw;
 };
 
 struct ParticleView {

@@ -90,6 +90,15 @@ TEST(Render, ParticlesWithAColourBarAndTheSameImageOnAnyThreadCount) {
     b = render_particles(pv, settings, text, &bar);
   }
   EXPECT_EQ(a.rgb, b.rgb);
+  // A browning bar for a food with its own raw colour (chocolate) runs from that colour: its foot is the
+  // raw chocolate, where the dough's bar is pale.
+  ColourBar chocolate{"browning", 0, 1, surface::Palette::baking};
+  chocolate.raw = surface::Lab{17.4, 2.6, 1.4};
+  const Image c = render_particles(pv, settings, text, &chocolate);
+  const std::uint8_t* foot = c.at(c.width - 110 + 11, c.height * 4 / 5 - 1);
+  const auto raw = surface::baking_colour(*chocolate.raw, 1.0 / (c.height * 4 / 5 - c.height / 5));
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(int(foot[k]), int(raw[k]), 2) << k;
+  EXPECT_LT(int(foot[0]) + foot[1] + foot[2], 200);  // dark brown, not the dough's cream (about 570)
 }
 
 namespace {
