@@ -36,17 +36,30 @@ def _axis(path, values):
     return path + "=" + ",".join(texts)
 
 
-def _finished(run_dir, end_time):
+def _same_scene(run_dir, loaded):
+    """Whether the run in run_dir baked this very scene (its resolved scene.json, as the command line's sweep
+    compares fingerprints): a run of an edited scene or preset is baked again, not kept or resumed."""
+    try:
+        with open(_os.path.join(run_dir, "scene.json")) as f:
+            return _json.load(f) == loaded.resolved
+    except (OSError, ValueError):
+        return False
+
+
+def _finished(run_dir, loaded):
     try:
         results = _bakesim.run_results(run_dir)
     except Exception:
         return False
-    return results["frames"] > 0 and abs(results["time_end_s"] - end_time) <= 1e-9 * max(1.0, end_time)
+    end_time = loaded.end_time
+    return (results["frames"] > 0 and abs(results["time_end_s"] - end_time) <= 1e-9 * max(1.0, end_time)
+            and _same_scene(run_dir, loaded))
 
 
 def run_point(scene, sets, run_dir, threads=1, end_time=None, preview=False):
     """One point of a sweep, in the process that calls it (a Dask worker):
-    keeps a finished run, resumes a stopped one, else bakes it anew. Returns
+    keeps a finished run of this very scene, resumes a stopped one, else bakes
+    it anew (a run of an edited scene or preset too). Returns
     {"directory", "status", "results"}; a failed bake is a status, not an
     exception, so the table is complete."""
     from . import Scene, Simulation  # on the worker
@@ -55,12 +68,13 @@ def run_point(scene, sets, run_dir, threads=1, end_time=None, preview=False):
         loaded = Scene.load(scene, list(sets), preview)
         if end_time is not None:
             loaded = loaded.with_end_time(end_time)
-        if _finished(run_dir, loaded.end_time):
+        if _finished(run_dir, loaded):
             status = "done"
         else:
             sim = None
             checkpoints = _os.path.join(run_dir, "checkpoints")
-            if _os.path.isdir(checkpoints) and any(f.endswith(".ckpt") for f in _os.listdir(checkpoints)):
+            if _os.path.isdir(checkpoints) and any(f.endswith(".ckpt") for f in _os.listdir(checkpoints)) \
+                    and _same_scene(run_dir, loaded):
                 try:
                     sim = Simulation.resume(run_dir, threads=threads)
                 except _bakesim.InputError:

@@ -3,6 +3,7 @@
 Run by ctest with PYTHONPATH=build/python and BAKESIM_EXE=build/app/bakesim;
 by hand: PYTHONPATH=build/python /usr/bin/python3 -m unittest tests/python/test_bakesim.py
 """
+import json
 import filecmp
 import os
 import shutil
@@ -309,6 +310,24 @@ class Sweeps(Base):
         cores = {(r["air_temperature"], r["heat_transfer_coefficient"]): r["core_end_C:cookie"] for r in table}
         self.assertGreater(cores[(200, 40)], cores[(160, 40)])
         self.assertGreater(cores[(200, 40)], cores[(200, 20)])
+
+    def test_a_point_keeps_its_finished_run_only_while_the_scene_is_the_same(self):
+        # A sweep run again into the same directory keeps the runs it finished, but not one baked from a scene
+        # that has changed since (an edited scene or preset): that one is baked again, as `bakesim sweep` does.
+        from bakesim.sweep import run_point
+        run_dir = os.path.join(self.tmp, "point")
+        first = run_point(COOKIE, ["environment.air_temperature=160"], run_dir, end_time=0.05, preview=True)
+        self.assertEqual(first["status"], "done")
+        stats = os.path.join(run_dir, "stats.csv")
+        written = os.stat(stats).st_mtime_ns
+        again = run_point(COOKIE, ["environment.air_temperature=160"], run_dir, end_time=0.05, preview=True)
+        self.assertEqual(again["status"], "done")
+        self.assertEqual(os.stat(stats).st_mtime_ns, written)  # kept, not baked again
+        changed = run_point(COOKIE, ["environment.air_temperature=200"], run_dir, end_time=0.05, preview=True)
+        self.assertEqual(changed["status"], "done")
+        with open(os.path.join(run_dir, "scene.json")) as f:
+            self.assertEqual(json.load(f)["environment"]["air_temperature"], 200)
+        self.assertTrue(os.path.isdir(os.path.join(run_dir, "previous")))  # the stale run moved aside, not deleted
 
 
 if __name__ == "__main__":
