@@ -138,21 +138,27 @@ surface::ColourSamples colour_samples(const ParticleSet& ps, const RunGeometry& 
   for (Real& v : samples.value) v = (v - lo) / (hi - lo);
   if (const auto bubble = attribute_values(ps, "bubble"))
     for (Real b : *bubble) samples.bubble.push_back(b != 0 ? 1 : 0);
-  // Browning starts from each food's raw colour (where any material gives one).
-  const auto material = attribute_values(ps, "material_id");
-  const bool own_colours = std::any_of(run.raw_colour.begin(), run.raw_colour.end(), [](const surface::Lab& c) {
-    return surface::lab_distance(c, surface::dough_lab()) > 0;
-  });
-  if (settings.colour == "browning" && material && own_colours)
-    for (Real m : *material) {
-      const std::size_t k = std::size_t(std::max(0.0, m));
-      samples.raw.push_back(k < run.raw_colour.size() ? run.raw_colour[k] : surface::dough_lab());
-    }
+  if (settings.colour == "browning") samples.raw = particle_raw_colours(ps, run);
   // Browning is the surface's own colour: the SPH surface particles (exchange area > 0) show it.
   if (settings.colour == "browning")
     if (const auto area = attribute_values(ps, "surface_area"))
       for (Real a : *area) samples.face.push_back(a > 0 ? 1 : 0);
   return samples;
+}
+
+std::vector<surface::Lab> particle_raw_colours(const ParticleSet& ps, const RunGeometry& run) {
+  std::vector<surface::Lab> raw;
+  const auto material = attribute_values(ps, "material_id");
+  const bool own_colours = std::any_of(run.raw_colour.begin(), run.raw_colour.end(), [](const surface::Lab& c) {
+    return surface::lab_distance(c, surface::dough_lab()) > 0;
+  });
+  if (!material || !own_colours) return raw;
+  raw.reserve(material->size());
+  for (Real m : *material) {
+    const std::size_t k = std::size_t(std::max(0.0, m));
+    raw.push_back(k < run.raw_colour.size() ? run.raw_colour[k] : surface::dough_lab());
+  }
+  return raw;
 }
 
 surface::ColourSamples pore_samples(const ParticleSet& ps, const RunGeometry& run) {

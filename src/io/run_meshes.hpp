@@ -59,6 +59,9 @@ surface::ColourSamples colour_samples(const ParticleSet& particles, const RunGeo
 // in MPM): the pores the rise opened. The gas the dough held before it rose is
 // not in the frames and is left out.
 surface::ColourSamples pore_samples(const ParticleSet& ps, const RunGeometry& run);
+// Each particle's raw food colour (its material's raw_colour), what browning starts from; empty where every
+// material is the dough's colour (or the frames carry no material ids).
+std::vector<surface::Lab> particle_raw_colours(const ParticleSet& ps, const RunGeometry& run);
 // Meshes and colours one frame.
 surface::SurfaceMesh frame_mesh(const ParticleSet& particles, const RunGeometry& run, const MeshSettings& settings);
 // Writes NNNNN.ply / NNNNN.obj (and the material and texture) into `meshes_dir`, atomically.

@@ -200,14 +200,15 @@ RenderRunResult render_run(const fs::path& run_dir, const RenderRunOptions& o) {
     ParticleView pv;
     const std::vector<Real> values = particle_values(ps, colour);
     // Browning starts from each particle's food colour (its material's raw_colour).
-    const surface::ColourSamples raw = colour_samples(ps, geometry, mesh_opts);
+    const std::vector<surface::Lab> raw =
+        colour == "browning" ? particle_raw_colours(ps, geometry) : std::vector<surface::Lab>{};
     for (std::size_t i = 0; i < ps.size(); ++i) {
       const Vec3& x = ps.vector("position")[i];
       if (settings.cut && settings.cut->removes(x)) continue;  // the cut view shows the particles behind the plane
       pv.position.push_back(x);
       const Real value = (values[i] - range.first) / (range.second - range.first);
-      pv.colour.push_back(i < raw.raw.size() ? surface::baking_colour(raw.raw[i], value)
-                                             : surface::palette_colour(bar.palette, value));
+      pv.colour.push_back(i < raw.size() ? surface::baking_colour(raw[i], value)
+                                         : surface::palette_colour(bar.palette, value));
     }
     pv.radius = 0.5 * geometry.spacing;
     return render_particles(pv, settings, text, tile ? nullptr : &bar, caption, props_at(f));
