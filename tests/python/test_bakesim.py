@@ -151,10 +151,10 @@ class Independent(Base):
 
     def test_two_simulations_in_one_process_do_not_interfere(self):
         def mpm():
-            return bakesim.Simulation(small_cookie(0.4), threads=2)
+            return bakesim.Simulation(small_cookie(0.2), threads=2)
 
         def sph():
-            return bakesim.Simulation(small_cookie(0.4, {"environment.air_temperature": 220}, COOKIE_SPH), threads=1)
+            return bakesim.Simulation(small_cookie(0.2, {"environment.air_temperature": 220}, COOKIE_SPH), threads=1)
 
         alone, hot_alone = mpm(), sph()
         alone.run()
@@ -177,8 +177,8 @@ class Independent(Base):
             self.assertEqual(sim.time, ref.time)
             for name in ("position", "temperature"):
                 np.testing.assert_array_equal(sim.particles[name], ref.particles[name], name)
-        c = bakesim.Simulation(small_cookie(0.4), threads=2)
-        d = bakesim.Simulation(small_cookie(0.4, {"environment.air_temperature": 220}, COOKIE_SPH), threads=1)
+        c = bakesim.Simulation(small_cookie(0.2), threads=2)
+        d = bakesim.Simulation(small_cookie(0.2, {"environment.air_temperature": 220}, COOKIE_SPH), threads=1)
         tc = threading.Thread(target=c.run)
         td = threading.Thread(target=d.run)
         tc.start(), td.start()
@@ -292,14 +292,14 @@ class Sweeps(Base):
         grid = {"environment.air_temperature": [160, 200], "environment.heat_transfer_coefficient": [20, 40]}
         with dd.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, \
                 dd.Client(cluster) as client:
-            table = bakesim.sweep(COOKIE, grid, client=client, out=os.path.join(self.tmp, "sweep"), end_time=0.4,
+            table = bakesim.sweep(COOKIE, grid, client=client, out=os.path.join(self.tmp, "sweep"), end_time=0.2,
                                   preview=True)
         self.assertEqual(len(table), 4)
         self.assertTrue(os.path.exists(table.csv))
         for row in table:
             self.assertEqual(row["status"], "done")
             single = os.path.join(self.tmp, f"single-{row['air_temperature']}-{row['heat_transfer_coefficient']}")
-            sim = bakesim.Simulation(small_cookie(0.4, {"environment.air_temperature": row["air_temperature"],
+            sim = bakesim.Simulation(small_cookie(0.2, {"environment.air_temperature": row["air_temperature"],
                                                         "environment.heat_transfer_coefficient":
                                                             row["heat_transfer_coefficient"]}), threads=1, out=single)
             sim.run()
