@@ -13,9 +13,11 @@
 
 namespace bakesim {
 
-// How far past its boiling point moist dough's surface must be to brown: a
-// hundredth of a kelvin, so round-off on the boiling plateau does not count.
-inline constexpr Real kBrowningAboveBoiling = 0.01;
+// How far past its boiling point moist dough's surface must be to brown: one
+// kelvin, above the boiling line of dough still holding 0.3 kg/kg (100.9 °C
+// with the default isotherm: bound water boils a little above θ_b,
+// physics/water.hpp), so the moist crumb's plateau does not count.
+inline constexpr Real kBrowningAboveBoiling = 1.0;
 
 struct BrowningKinetics {
   Real max_colour_difference = 52.0;  // ΔE∞ (CIE L*a*b* distance of the burnt crust)

@@ -90,10 +90,12 @@ struct CrustFace {
     if (!(resistance > 0) || !std::isfinite(resistance)) return theta;
     const Real face = (coefficient * outside + theta / resistance) / (coefficient + 1 / resistance);
     // The front (the crust's inner edge) lies the moist part's share of the drop above θ.
-    if (!moist || theta + (face - theta) * moist_resistance / resistance <= boiling_point) return face;
-    if (!(crust > 0)) return boiling_point;
+    // A particle hotter than θ_b holds only bound water (physics/water.hpp): its front is its own temperature.
+    const Real front = std::max(boiling_point, theta);
+    if (!moist || theta + (face - theta) * moist_resistance / resistance <= front) return face;
+    if (!(crust > 0)) return front;
     const Real conductance = crust_conductivity / crust;
-    return (coefficient * outside + conductance * boiling_point) / (coefficient + conductance);
+    return (coefficient * outside + conductance * front) / (coefficient + conductance);
   }
   // The coefficient that gives the particle the face's heat, h (θ_out − θ_f),
   // in Newton's form β (θ_out − θ) (W/(m² K)): the exchange a solver

@@ -1,5 +1,6 @@
 #include "physics/water.hpp"
 
+#include <limits>
 #include <numbers>
 
 namespace bakesim {
@@ -25,6 +26,18 @@ Real saturation_vapour_pressure(Real celsius) {
   return kMmHg * std::exp(std::numbers::ln10 * (k.a - k.b / (k.c + celsius)));
 }
 
+namespace {
+// θ where p_sat(θ) = p (Pa): the Antoine equation solved for θ on the branch
+// that holds it (pressures in the 0.6% gap between the branches at 100 °C: 100).
+Real saturation_temperature(Real pressure) {
+  const Real log_mmhg = std::log10(pressure / kMmHg);
+  const Real low = kLow.b / (kLow.a - log_mmhg) - kLow.c;
+  if (low < 100) return low;
+  return std::max(kHigh.b / (kHigh.a - log_mmhg) - kHigh.c, Real(100));
+}
+constexpr Real kHottestBoiling = 370;  // °C, below water's critical point (374 °C)
+}  // namespace
+
 Real saturation_vapour_pressure_slope(Real celsius) {
   return slope_of_saturation_pressure(saturation_vapour_pressure(celsius), celsius);
 }
@@ -34,6 +47,95 @@ Real SorptionIsotherm::activity(Real moisture, Real celsius) const {
   const Real a = std::exp(oswin_a_slope * (celsius + kZeroCelsius) + oswin_a_offset);
   const Real y = std::pow(100.0 * moisture / a, 1.0 / oswin_exponent);
   return y / (1 + y);
+}
+
+Real SorptionIsotherm::moisture_at(Real water_activity, Real celsius) const {
+  if (!(water_activity > 0)) return 0;
+  if (!(water_activity < 1)) return std::numeric_limits<Real>::infinity();
+  const Real a = std::exp(oswin_a_slope * (celsius + kZeroCelsius) + oswin_a_offset);
+  return a / 100.0 * std::pow(water_activity / (1 - water_activity), oswin_exponent);
+}
+
+namespace {
+// The boiling line at θ > θ_b for the ambient pressure p_b: X_b and dX_b/dθ
+// from one p_sat and one power. X = (a/100) (a_w/(1 − a_w))ⁿ with
+// a_w = p_b/p_sat(θ): d ln X/dθ = c₁ − n (p_sat'/p_sat) / (1 − a_w).
+struct BoilingLine {
+  Real moisture, slope;
+};
+BoilingLine boiling_line(const SorptionIsotherm& sorption, Real ambient, Real celsius) {
+  const Real p = saturation_vapour_pressure(celsius), activity = ambient / p;
+  if (!(activity < 1)) return {std::numeric_limits<Real>::infinity(), -std::numeric_limits<Real>::infinity()};
+  const Real x = sorption.moisture_at(activity, celsius);
+  const Real log_slope =
+      sorption.oswin_a_slope - sorption.oswin_exponent * slope_of_saturation_pressure(p, celsius) / p / (1 - activity);
+  return {x, x * log_slope};
+}
+}  // namespace
+
+Real PoreWater::boiling_moisture(Real celsius) const {
+  if (!(celsius > boiling_point)) return std::numeric_limits<Real>::infinity();
+  return boiling_line(sorption, saturation_vapour_pressure(boiling_point), celsius).moisture;
+}
+
+Real PoreWater::boiling_moisture_slope(Real celsius) const {
+  if (!(celsius > boiling_point)) return -std::numeric_limits<Real>::infinity();
+  return boiling_line(sorption, saturation_vapour_pressure(boiling_point), celsius).slope;
+}
+
+Real PoreWater::boiling_temperature(Real moisture_now) const {
+  if (!(moisture_now > 0)) return kHottestBoiling;
+  const Real ambient = saturation_vapour_pressure(boiling_point);
+  if (sorption.oswin_a_slope == 0) {  // a_w does not depend on θ: p_sat(θ) = p_b / a_w
+    const Real activity = sorption.activity(moisture_now, boiling_point);
+    if (!(activity < 1)) return boiling_point;
+    if (!(activity > 0)) return kHottestBoiling;
+    return std::clamp(saturation_temperature(ambient / activity), boiling_point, kHottestBoiling);
+  }
+  // a(θ) varies: bisect a_w(X, θ) p_sat(θ) − p_b, which changes sign once between θ_b and 370 °C
+  // for the isotherms the schema allows (p_sat grows far faster than a_w can fall).
+  auto excess = [&](Real theta) {
+    return sorption.activity(moisture_now, theta) * saturation_vapour_pressure(theta) - ambient;
+  };
+  Real lo = boiling_point, hi = kHottestBoiling;
+  if (!(excess(lo) < 0)) return boiling_point;
+  if (excess(hi) < 0) return kHottestBoiling;
+  for (int i = 0; i < 100 && hi - lo > 1e-12 * hi; ++i) {
+    const Real mid = 0.5 * (lo + hi);
+    (excess(mid) < 0 ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+Boiling boil_bound(const PoreWater& pw, Real heat_capacity, Real temperature, Real water, Real dry_mass) {
+  if (!(water > 0) || !(temperature > pw.boiling_point) || !(heat_capacity > 0)) return {temperature, water, 0};
+  const Real latent = pw.latent_heat;
+  if (!(dry_mass > 0)) return boil(heat_capacity, temperature, water, pw.boiling_point, latent);
+  // The line's temperature for W: at or above it the particle holds all its water bound (a crust below its line).
+  Real theta = pw.boiling_temperature(water / dry_mass);
+  if (!(temperature > theta)) return {temperature, water, 0};
+  // So wet that it boils within a microkelvin of θ_b: free water.
+  if (theta < pw.boiling_point + 1e-6) return boil(heat_capacity, temperature, water, pw.boiling_point, latent);
+  // Newton on g(θ') = C (θ − θ') − h_fg (W − m_d X_b(θ')), from the line's temperature for W (g > 0 there,
+  // < 0 at θ). A step s leaves an error of order s²/(θ' − θ_b) (the line's curvature): below 1e-7 K the
+  // step is taken on the tangent without another evaluation (most steps of dough at its plateau: one).
+  const Real ambient = saturation_vapour_pressure(pw.boiling_point);
+  Real bound = water;  // m_d X_b(θ'): the water the line keeps at θ'
+  for (int iteration = 0; iteration < 60; ++iteration) {
+    const BoilingLine line = boiling_line(pw.sorption, ambient, theta);
+    bound = dry_mass * line.moisture;
+    const Real g = heat_capacity * (temperature - theta) - latent * (water - bound);
+    const Real slope = -heat_capacity + latent * dry_mass * line.slope;
+    if (!(g > 0) || !std::isfinite(slope)) break;
+    const Real step = std::min(-g / slope, temperature - theta);
+    if (step * step < 1e-7 * (theta - pw.boiling_point)) {
+      bound += dry_mass * line.slope * step;
+      break;
+    }
+    theta += step;
+  }
+  const Real boiled = std::clamp(water - bound, Real(0), water);
+  return {temperature - latent * boiled / heat_capacity, water - boiled, boiled};
 }
 
 Real PoreWater::vapour_density(Real celsius, Real moisture_now) const {

@@ -60,6 +60,8 @@ struct SorptionIsotherm {
   Real oswin_a_offset = 2.361;  // c₂ (a = 10.6)
   Real oswin_exponent = 0.3;    // n
   Real activity(Real moisture, Real celsius) const;
+  // The isotherm inverted: the moisture X in equilibrium with activity a_w at θ.
+  Real moisture_at(Real water_activity, Real celsius) const;
 };
 
 // The material's water: the parameters of the law above.
@@ -79,6 +81,20 @@ struct PoreWater {
   // Dry basis: a particle of mass m is dry solid and water, m_w = m X₀ / (1 + X₀) at the start.
   Real initial_water(Real mass) const { return mass * moisture / (1 + moisture); }
   Real moisture_of(Real water, Real mass) const { return water * (1 + moisture) / mass; }
+  Real dry_mass(Real mass) const { return mass / (1 + moisture); }
+  // Bound water (boiling-point elevation by sorption): the pores are open to
+  // the oven at the pressure p_b = p_sat(θ_b), and water held at activity a_w
+  // boils where its vapour pressure a_w(X, θ) p_sat(θ) reaches p_b. Above θ_b
+  // dough therefore keeps the moisture boiling_moisture(θ) = X(a_w = p_b /
+  // p_sat(θ)) of its isotherm (∞ at or below θ_b, where free water boils): with
+  // the default isotherm moist crumb (X = 0.5, a_w 0.994) boils 0.16 K above
+  // θ_b, and a crust at 160 °C keeps 0.065 kg/kg instead of boiling dry.
+  Real boiling_moisture(Real celsius) const;
+  // d boiling_moisture / dθ, kg/(kg K) (< 0).
+  Real boiling_moisture_slope(Real celsius) const;
+  // The temperature at which dough of moisture X boils (the inverse of the
+  // above; θ_b for X at or above the isotherm's a_w → 1, up to 370 °C).
+  Real boiling_temperature(Real moisture_now) const;
   // Equilibrium vapour density in the pore gas, kg/m³, never above the boiling point's.
   Real vapour_density(Real celsius, Real moisture_now) const;
   // The gas fraction of dough that has expanded to `volume_ratio` times its
@@ -151,12 +167,21 @@ struct PoreWater {
 // after this step's heat and water fluxes, its liquid water W (kg). Where
 // W > 0 and θ > θ_b the energy C (θ − θ_b) boils off up to W (kg) at h_fg;
 // whatever is left heats the now dry particle. Energy is conserved exactly:
-// C θ_in = C θ_out + h_fg boiled.
+// C θ_in = C θ_out + h_fg boiled. (Free water only: the solvers use the
+// bound-water cap below.)
 struct Boiling {
   Real temperature;
   Real water;
   Real boiled;
 };
+// The boiling cap with bound water (PoreWater::boiling_moisture): a particle
+// of dry mass m_d at θ holding W > m_d X_b(θ) boils water off until it lies
+// on its boiling line, C (θ − θ_out) = h_fg (W − m_d X_b(θ_out)), solved for
+// θ_out by Newton's method from the line's temperature for W (the left side
+// falls and the right rises with θ_out; X_b is convex, so the iterates rise
+// to the root without passing it); the water left is m_d X_b(θ_out) and
+// θ_out = θ − h_fg boiled / C, so energy is conserved exactly.
+Boiling boil_bound(const PoreWater& pw, Real heat_capacity, Real temperature, Real water, Real dry_mass);
 inline Boiling boil(Real heat_capacity, Real temperature, Real water, Real boiling_point, Real latent_heat) {
   if (!(water > 0) || !(temperature > boiling_point) || !(heat_capacity > 0)) return {temperature, water, 0};
   const Real excess = heat_capacity * (temperature - boiling_point);
@@ -166,8 +191,9 @@ inline Boiling boil(Real heat_capacity, Real temperature, Real water, Real boili
 
 // One particle's phase change after its water moved: `vapour_gain` kg arrived
 // as vapour (< 0: left as vapour) and condenses (evaporates) there, giving
-// (taking) h_fg; then the boiling cap on the water it now holds. `latent` is
-// the energy the water took with it, J (C θ_in = C θ_out + latent).
+// (taking) h_fg; then the boiling cap (with bound water) on the water it now
+// holds. `latent` is the energy the water took with it, J (C θ_in = C θ_out +
+// latent). `mass`: the particle's (dry solid and initial water).
 struct PhaseChange {
   Real temperature;
   Real water;
@@ -175,9 +201,9 @@ struct PhaseChange {
   Real latent;
 };
 inline PhaseChange condense_and_boil(const PoreWater& pw, Real heat_capacity, Real temperature, Real water,
-                                     Real vapour_gain) {
+                                     Real vapour_gain, Real mass) {
   const Real heated = temperature + pw.latent_heat * vapour_gain / heat_capacity;
-  const Boiling b = boil(heat_capacity, heated, water, pw.boiling_point, pw.latent_heat);
+  const Boiling b = boil_bound(pw, heat_capacity, heated, water, pw.dry_mass(mass));
   return {b.temperature, b.water, b.boiled, pw.latent_heat * (b.boiled - vapour_gain)};
 }
 

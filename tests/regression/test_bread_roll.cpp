@@ -257,7 +257,7 @@ TEST(SphCookie, FromThePresetItSpreadsSetsAndBakesThrough) {
   };
   const auto before = compute_body_stats(solver.particles(), 1, Vec3::UnitY())[0];
   const double width0 = width(solver.particles());
-  double minutes_to_95 = -1, lowest = 1, hottest_moist = 0;
+  double minutes_to_95 = -1, lowest = 1, past_line = -1e9;
   while (solver.time() < scene.end_time - 1e-12) {
     solver.step(std::min(solver.max_stable_dt(), scene.end_time - solver.time()));  // throws on NaN
     const auto& ps = solver.particles();
@@ -265,22 +265,27 @@ TEST(SphCookie, FromThePresetItSpreadsSetsAndBakesThrough) {
     if (minutes_to_95 < 0 && *std::min_element(temperature.begin(), temperature.end()) >= 95)
       minutes_to_95 = scene.oven.bake_time(solver.time()) / 60;
     for (const Vec3& x : ps.vector("position")) lowest = std::min(lowest, double(x.y()));
+    // How far any particle holding water is past its boiling line (bound water, physics/water.hpp): the
+    // cap keeps it on the line (100.2 degC at 0.45 kg/kg, 124 degC at 0.1 with the default isotherm).
     const auto& moisture = ps.scalar("moisture");
+    const auto& material = ps.integer("material_id");
     for (std::size_t i = 0; i < ps.size(); ++i)
-      if (moisture[i] > 0.1) hottest_moist = std::max(hottest_moist, double(temperature[i]));
+      if (moisture[i] > 0 && temperature[i] > 100)
+        past_line = std::max(
+            past_line, double(temperature[i]) -
+                           scene.sph.materials[std::size_t(material[i])].moisture.boiling_temperature(moisture[i]));
   }
   const auto after = compute_body_stats(solver.particles(), 1, Vec3::UnitY())[0];
   const double width1 = width(solver.particles());
   std::printf(
       "SPH cookie: width %.1f -> %.1f mm, height %.1f -> %.1f mm, core 95 degC at %.2f min, lowest %.2f mm, "
-      "hottest moist dough %.1f degC\n",
-      width0 * 1e3, width1 * 1e3, before.height() * 1e3, after.height() * 1e3, minutes_to_95, lowest * 1e3,
-      hottest_moist);
+      "moist dough at most %.2g K past its boiling line\n",
+      width0 * 1e3, width1 * 1e3, before.height() * 1e3, after.height() * 1e3, minutes_to_95, lowest * 1e3, past_line);
   RecordProperty("minutes_to_95", std::to_string(minutes_to_95));
   EXPECT_GT(width1, 1.05 * width0);            // it spreads
   EXPECT_LT(after.height(), before.height());  // and flattens
   EXPECT_GT(minutes_to_95, 5.0);               // later than the MPM cookie's 4.7 min (no latent heat there)
   EXPECT_LT(minutes_to_95, 10.0);              // and within its 12-minute bake
-  EXPECT_LE(hottest_moist, 100.5);             // moist dough (above 0.1 kg/kg) stays at the boiling point
+  EXPECT_LE(past_line, 0.01);                  // dough holding water stays on its boiling line
   EXPECT_GT(lowest, -0.001);                   // on the tray (its top at y = 0)
 }

@@ -2,7 +2,7 @@
 // 44 mm round of it in a muffin cup, 20 minutes at 180 °C, coarse (4 mm) for
 // CI: it stays finite and in its cup, comes to rest, its moist dough stays at
 // the boiling point, its core heats through, a setting food's outside sets and
-// it loses water.
+// it loses water (the chocolate, whose water is all bound, keeps it).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -115,9 +115,18 @@ TEST_P(SphPreset, BakesInACupAtRestMoistBelowBoilingSetOnTheOutside) {
   // about 1 cm/s of mechanics, an apple rings elastically at up to 3 cm/s, batters and doughs are below 1 cm/s.
   EXPECT_LT(fastest, 0.05);
   EXPECT_LT(out_of_cup, 0.5 * kSpacing);  // in the cup (a particle's centre within half a spacing of its wall)
-  EXPECT_LE(hottest_moist, 100.5);        // moist dough stays at the boiling point
-  EXPECT_GT(coldest, 90.0);               // 20 minutes at 180 °C bake the core through (from 20 °C)
-  EXPECT_GT(1 - water1 / water0, 0.05);   // it dries (baked goods lose about 8-25% of their weight)
+  // Moist dough stays at the boiling point: on its boiling line, 100.9 degC at
+  // 0.3 kg/kg (its water bound a little, the default isotherm; physics/water.hpp).
+  EXPECT_LE(hottest_moist, 101.0);
+  EXPECT_GT(coldest, 90.0);              // 20 minutes at 180 °C bake the core through (from 20 °C)
+  // It dries (baked goods lose about 8-25% of their weight), unless all its water is bound at the
+  // oven's temperature (bound water, physics/water.hpp): the chocolate's 1.4% (X 0.014 against the
+  // 0.055 the default isotherm binds at 180 degC) stays, as it does in a chocolate heated in an oven.
+  if (moisture0 > scene.sph.materials[0].moisture.boiling_moisture(180)) {
+    EXPECT_GT(1 - water1 / water0, 0.05);
+  } else {
+    EXPECT_LT(1 - water1 / water0, 0.01);
+  }
   EXPECT_LT(weight_loss, 0.3);
   if (solid) {
     EXPECT_GT(height_ratio, 0.9);  // an elastic solid stands

@@ -79,6 +79,72 @@ TEST(Water, BoilingCapConservesEnergyAndOnlyDryDoughHeatsPastIt) {
   EXPECT_EQ(boil(c, 150, 0, 100, hfg).temperature, 150.0);
 }
 
+// Bound water: above θ_b dough keeps the moisture its isotherm binds where
+// a_w(X, θ) p_sat(θ) = p_sat(θ_b) (the pores open to the oven's pressure).
+TEST(Water, BoundWaterBoilsOnTheIsothermsBoilingLine) {
+  PoreWater w;
+  w.moisture = 0.5;
+  const double ambient = saturation_vapour_pressure(100);
+  for (const double theta : {100.5, 110.0, 130.0, 160.0, 200.0}) {
+    const double x = w.boiling_moisture(theta);
+    EXPECT_NEAR(w.sorption.activity(x, theta) * saturation_vapour_pressure(theta), ambient, 1e-10 * ambient) << theta;
+    EXPECT_NEAR(w.boiling_temperature(x), theta, 1e-8) << theta;
+    const double d = 1e-4, fd = (w.boiling_moisture(theta + d) - w.boiling_moisture(theta - d)) / (2 * d);
+    EXPECT_NEAR(w.boiling_moisture_slope(theta), fd, 1e-6 * std::abs(fd)) << theta;
+    EXPECT_LT(w.boiling_moisture_slope(theta), 0.0);
+  }
+  EXPECT_TRUE(std::isinf(w.boiling_moisture(100.0)));  // free water boils at θ_b
+  EXPECT_LT(w.boiling_temperature(0.5) - 100, 0.2);    // moist crumb (a_w 0.994): 0.16 K of elevation
+  EXPECT_GT(w.boiling_temperature(0.3) - 100, 0.5);    // a_w 0.97: about 0.8 K
+  EXPECT_LT(w.boiling_temperature(0.3) - 100, 1.2);
+  // A crust at 160 degC keeps a few per cent (dry basis; the default isotherm: 0.065).
+  EXPECT_GT(w.boiling_moisture(160), 0.05);
+  EXPECT_LT(w.boiling_moisture(160), 0.08);
+  // A temperature-dependent isotherm (a falls with T, the same at 100 degC): the same line equation holds.
+  PoreWater t = w;
+  t.sorption.oswin_a_slope = -0.004;
+  t.sorption.oswin_a_offset = w.sorption.oswin_a_offset + 0.004 * 373.15;
+  for (const double theta : {105.0, 150.0}) {
+    const double x = t.boiling_moisture(theta);
+    EXPECT_NEAR(t.sorption.activity(x, theta) * saturation_vapour_pressure(theta), ambient, 1e-10 * ambient);
+    EXPECT_NEAR(t.boiling_temperature(x), theta, 1e-6) << theta;
+    const double d = 1e-4, fd = (t.boiling_moisture(theta + d) - t.boiling_moisture(theta - d)) / (2 * d);
+    EXPECT_NEAR(t.boiling_moisture_slope(theta), fd, 1e-6 * std::abs(fd)) << theta;
+  }
+}
+
+TEST(Water, TheBoundWaterCapConservesEnergyAndLeavesTheParticleOnItsLine) {
+  PoreWater w;
+  w.moisture = 0.5;
+  const double c = 2.0, dry = 0.01, h = w.latent_heat;
+  for (const double water : {0.005, 0.001, 2e-4}) {  // X = 0.5, 0.1, 0.02
+    for (const double heated : {100.05, 101.0, 130.0, 300.0}) {
+      const Boiling b = boil_bound(w, c, heated, water, dry);
+      EXPECT_NEAR(c * heated, c * b.temperature + h * b.boiled, 1e-9) << water << " " << heated;
+      EXPECT_NEAR(b.water + b.boiled, water, 1e-18);
+      EXPECT_GE(b.water, 0.0);
+      EXPECT_GE(b.boiled, 0.0);
+      if (b.boiled > 0) {  // it boiled down to its line: the water left is what the line binds there
+        // (to 1e-6 K along the line: Newton's last step is taken on the tangent)
+        EXPECT_NEAR(b.water, dry * w.boiling_moisture(b.temperature), 1e-6 * water) << water << " " << heated;
+        EXPECT_GT(b.water, 0.0);  // bound water stays
+      } else {                    // all of it bound at this temperature
+        EXPECT_LE(water, dry * w.boiling_moisture(heated));
+        EXPECT_EQ(b.temperature, heated);
+      }
+    }
+  }
+  // Moist dough a little past its line boils off the excess, as free water would (to 1%).
+  const double line = w.boiling_temperature(0.5);
+  const Boiling plateau = boil_bound(w, c, line + 0.01, 0.005, dry);
+  EXPECT_NEAR(plateau.boiled, c * 0.01 / h, 0.01 * c * 0.01 / h);
+  EXPECT_NEAR(plateau.temperature, line, 1e-3);
+  // A crust at 150 degC with X = 0.03 (its line binds 0.07): nothing boils; dry dough: untouched.
+  EXPECT_EQ(boil_bound(w, c, 150, 3e-4, dry).boiled, 0.0);
+  EXPECT_EQ(boil_bound(w, c, 150, 0, dry).temperature, 150.0);
+  EXPECT_EQ(boil_bound(w, c, 99, 0.005, dry).boiled, 0.0);
+}
+
 TEST(Water, ChiltonColburnGivesTheSpecsMassTransferCoefficient) {
   // shared/spec: rho_air c_p,air ~ 760 J/(m^3 K) at 190 degC and Le 0.85, so h = 10 gives h_m ~ 0.015 m/s.
   EXPECT_NEAR(mass_transfer_coefficient(10, 190), 0.015, 0.05 * 0.015);
@@ -156,14 +222,17 @@ TEST(Water, CondensingVapourGivesItsLatentHeatBeforeTheBoilingCap) {
   w.moisture = 0.5;
   EXPECT_NEAR(w.initial_water(3.0), 1.0, 1e-15);  // 3 kg of dough at X0 = 0.5: 2 kg solid, 1 kg water
   EXPECT_NEAR(w.moisture_of(1.0, 3.0), 0.5, 1e-15);
-  const double c = 2.0;
-  // 1 g condenses at 99 degC: it would heat the particle far past 100, so most of it boils off again.
-  const PhaseChange p = condense_and_boil(w, c, 99, 0.01, 1e-3);
-  EXPECT_EQ(p.temperature, 100.0);
+  const double c = 2.0, mass = 0.03;  // 20 g of solid and 10 g of water (X = 0.5)
+  // 1 g condenses at 99 degC: it would heat the particle far past 100, so most of it boils off again,
+  // leaving it on its boiling line (X near 0.5: within 0.3 K of 100 degC).
+  const PhaseChange p = condense_and_boil(w, c, 99, 0.01, 1e-3, mass);
+  EXPECT_GT(p.temperature, 100.0);
+  EXPECT_LT(p.temperature, 100.3);
+  EXPECT_NEAR(p.temperature, w.boiling_temperature(w.moisture_of(p.water, mass)), 1e-6);
   EXPECT_NEAR(c * 99 - p.latent, c * p.temperature, 1e-9);  // energy: what the water took is the latent term
-  EXPECT_NEAR(p.boiled, (w.latent_heat * 1e-3 - c * 1) / w.latent_heat, 1e-15);
+  EXPECT_NEAR(p.boiled, (w.latent_heat * 1e-3 - c * (p.temperature - 99)) / w.latent_heat, 1e-15);
   // Evaporating 1 mg cools it by h_fg 1e-6 / C; nothing boils below 100.
-  const PhaseChange q = condense_and_boil(w, c, 60, 0.01, -1e-6);
+  const PhaseChange q = condense_and_boil(w, c, 60, 0.01, -1e-6, mass);
   EXPECT_NEAR(q.temperature, 60 - w.latent_heat * 1e-6 / c, 1e-12);
   EXPECT_EQ(q.boiled, 0.0);
   EXPECT_NEAR(q.latent, w.latent_heat * 1e-6, 1e-12);

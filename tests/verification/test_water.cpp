@@ -53,7 +53,13 @@ json stefan_scene() {
           {"specific_heat", kC},
           {"conductivity", kK},
           {"viscosity", 1.0},
-          {"moisture", {{"content", kX0}, {"vapour_diffusivity", 0.0}, {"liquid_diffusivity", 0.0}}}}},
+          // Neumann's sharp front boils all the water at θ_b: an isotherm that binds none
+          // (a = e⁻²⁰: a_w above 0.99 down to X = 1e-7 kg/kg).
+          {"moisture",
+           {{"content", kX0},
+            {"vapour_diffusivity", 0.0},
+            {"liquid_diffusivity", 0.0},
+            {"sorption", {{"oswin_a_offset", -20.0}}}}}}},
         {"hot", {{"density", kRho}, {"specific_heat", kC}, {"conductivity", kK}}}}},
       {"bodies", json::array({{{"name", "slab"},
                                {"material", "dough"},

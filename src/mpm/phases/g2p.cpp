@@ -133,7 +133,8 @@ void MpmSolver::g2p(Real dt) {
             const PoreWater& pw = setup_.materials[material_[p]].moisture;
             Real latent = 0;
             if (pw.active()) {
-              const PhaseChange c = condense_and_boil(pw, heat_capacity_[p], temperature_[p], water_[p], vapour_gain);
+              const PhaseChange c =
+                  condense_and_boil(pw, heat_capacity_[p], temperature_[p], water_[p], vapour_gain, m_[p]);
               temperature_[p] = c.temperature;
               water_[p] = c.water;
               latent = c.latent;

@@ -78,7 +78,7 @@ void SphSolver::phase_water(Real dt) {
         const Real capacity = m_[i] * setup_.materials[material_[i]].specific_heat;
         Real w = water[i] + vapour_gain + liquid_gain, clamped = 0;
         if (w < 0) clamped = -w, w = 0;  // asked for more than the particle held: not removed
-        const PhaseChange c = condense_and_boil(pw, capacity, temperature_[i], w, vapour_gain);
+        const PhaseChange c = condense_and_boil(pw, capacity, temperature_[i], w, vapour_gain, m_[i]);
         temperature_[i] = c.temperature;
         water[i] = c.water;
         moisture[i] = pw.moisture_of(water[i], m_[i]);
