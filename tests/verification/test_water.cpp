@@ -180,13 +180,17 @@ TEST_P(WaterBudgets, WaterAndEnergyCloseMoistDoughStaysAtBoilingAndTheCrustDries
   const double c = 2500;
   const Totals start = totals(*solver, c);
   const ParticleSet start_particles = solver->particles();
-  double hottest_moist = -1e9;
+  double hottest_moist = -1e9, past_line = -1e9;
+  const PoreWater isotherm;  // the block's: the default isotherm and boiling point
   const auto watch = [&] {
     const auto& ps = solver->particles();
     const auto& x = ps.scalar("moisture");
     const auto& t = ps.scalar("temperature");
-    for (std::size_t i = 0; i < x.size(); ++i)
+    for (std::size_t i = 0; i < x.size(); ++i) {
       if (x[i] > 0.3) hottest_moist = std::max(hottest_moist, t[i]);
+      // Dough holding water never passes its boiling line (bound water, physics/water.hpp).
+      if (x[i] > 0 && t[i] > 100) past_line = std::max(past_line, t[i] - isotherm.boiling_temperature(x[i]));
+    }
   };
   // After 3 bake minutes the per-body stats see a crust a fraction of the block thick, drier
   // than the crumb.
@@ -209,6 +213,11 @@ TEST_P(WaterBudgets, WaterAndEnergyCloseMoistDoughStaysAtBoilingAndTheCrustDries
   EXPECT_NEAR(latent, 2.257e6 * gone, (GetParam() == "sph" ? 1e-9 : 1e-3) * latent);
   EXPECT_NEAR(end.sensible + latent - heat_in, start.sensible, 1e-8 * start.sensible);
   EXPECT_LE(hottest_moist, 100.5);
+  EXPECT_LE(past_line, 0.01);
+  // (Here the moist dough never passes 100 degC, its vapour carrying the heat off: only the dried crust, well
+  // below its line, is above it.)
+  std::printf("%s: dough holding water above 100 degC, nearest its boiling line: %+.2g K\n", GetParam().c_str(),
+              past_line);
   // The crust: dried and past the boiling point somewhere.
   const auto& ps = solver->particles();
   double driest = 1e9, hottest = -1e9;
