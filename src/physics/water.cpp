@@ -83,22 +83,25 @@ Real PoreWater::boiling_moisture_slope(Real celsius) const {
   return boiling_line(sorption, saturation_vapour_pressure(boiling_point), celsius).slope;
 }
 
-Real PoreWater::boiling_temperature(Real moisture_now) const {
+namespace {
+// The temperature at which dough of moisture X boils against the ambient pressure p_b (PoreWater::
+// boiling_temperature; p_b passed in, as boil_bound already holds it).
+Real line_temperature(const PoreWater& pw, Real ambient, Real moisture_now) {
+  const SorptionIsotherm& sorption = pw.sorption;
   if (!(moisture_now > 0)) return kHottestBoiling;
-  const Real ambient = saturation_vapour_pressure(boiling_point);
   if (sorption.oswin_a_slope == 0) {  // a_w does not depend on θ: p_sat(θ) = p_b / a_w
-    const Real activity = sorption.activity(moisture_now, boiling_point);
-    if (!(activity < 1)) return boiling_point;
+    const Real activity = sorption.activity(moisture_now, pw.boiling_point);
+    if (!(activity < 1)) return pw.boiling_point;
     if (!(activity > 0)) return kHottestBoiling;
-    return std::clamp(saturation_temperature(ambient / activity), boiling_point, kHottestBoiling);
+    return std::clamp(saturation_temperature(ambient / activity), pw.boiling_point, kHottestBoiling);
   }
   // a(θ) varies: bisect a_w(X, θ) p_sat(θ) − p_b, which changes sign once between θ_b and 370 °C
   // for the isotherms the schema allows (p_sat grows far faster than a_w can fall).
   auto excess = [&](Real theta) {
     return sorption.activity(moisture_now, theta) * saturation_vapour_pressure(theta) - ambient;
   };
-  Real lo = boiling_point, hi = kHottestBoiling;
-  if (!(excess(lo) < 0)) return boiling_point;
+  Real lo = pw.boiling_point, hi = kHottestBoiling;
+  if (!(excess(lo) < 0)) return pw.boiling_point;
   if (excess(hi) < 0) return kHottestBoiling;
   for (int i = 0; i < 100 && hi - lo > 1e-12 * hi; ++i) {
     const Real mid = 0.5 * (lo + hi);
@@ -106,20 +109,25 @@ Real PoreWater::boiling_temperature(Real moisture_now) const {
   }
   return 0.5 * (lo + hi);
 }
+}  // namespace
+
+Real PoreWater::boiling_temperature(Real moisture_now) const {
+  return line_temperature(*this, saturation_vapour_pressure(boiling_point), moisture_now);
+}
 
 Boiling boil_bound(const PoreWater& pw, Real heat_capacity, Real temperature, Real water, Real dry_mass) {
   if (!(water > 0) || !(temperature > pw.boiling_point) || !(heat_capacity > 0)) return {temperature, water, 0};
   const Real latent = pw.latent_heat;
   if (!(dry_mass > 0)) return boil(heat_capacity, temperature, water, pw.boiling_point, latent);
   // The line's temperature for W: at or above it the particle holds all its water bound (a crust below its line).
-  Real theta = pw.boiling_temperature(water / dry_mass);
+  const Real ambient = saturation_vapour_pressure(pw.boiling_point);
+  Real theta = line_temperature(pw, ambient, water / dry_mass);
   if (!(temperature > theta)) return {temperature, water, 0};
   // So wet that it boils within a microkelvin of θ_b: free water.
   if (theta < pw.boiling_point + 1e-6) return boil(heat_capacity, temperature, water, pw.boiling_point, latent);
   // Newton on g(θ') = C (θ − θ') − h_fg (W − m_d X_b(θ')), from the line's temperature for W (g > 0 there,
   // < 0 at θ). A step s leaves an error of order s²/(θ' − θ_b) (the line's curvature): below 1e-7 K the
   // step is taken on the tangent without another evaluation (most steps of dough at its plateau: one).
-  const Real ambient = saturation_vapour_pressure(pw.boiling_point);
   Real bound = water;  // m_d X_b(θ'): the water the line keeps at θ'
   for (int iteration = 0; iteration < 60; ++iteration) {
     const BoilingLine line = boiling_line(pw.sorption, ambient, theta);
