@@ -512,12 +512,16 @@ Image trace(RayScene& rs, const Aabb& bodies, const RenderSettings& s, const Sur
 }  // namespace
 
 void draw_colour_bar(Image& img, const ColourBar& bar, const TextRenderer& text) {
-  const int x0 = img.width - 110, x1 = x0 + 22, y0 = img.height / 5, y1 = img.height * 4 / 5;
+  const bool per_food = bar.palette == surface::Palette::baking && !bar.raws.empty();
+  const int columns = per_food ? int(bar.raws.size()) : 1;
+  const int width = std::clamp(8 * columns, 22, 48);
+  const int x0 = img.width - 110, x1 = x0 + width, y0 = img.height / 5, y1 = img.height * 4 / 5;
   for (int y = y0; y <= y1; ++y) {
     const double t = double(y1 - y) / double(y1 - y0);
-    const auto c = bar.raw && bar.palette == surface::Palette::baking ? surface::baking_colour(*bar.raw, t)
-                                                                      : surface::palette_colour(bar.palette, t);
-    for (int x = x0; x <= x1; ++x) img.set(x, y, c);
+    for (int x = x0; x <= x1; ++x) {
+      const int food = std::min(columns - 1, (x - x0) * columns / (width + 1));
+      img.set(x, y, per_food ? surface::baking_colour(bar.raws[food], t) : surface::palette_colour(bar.palette, t));
+    }
   }
   for (int y = y0 - 1; y <= y1 + 1; ++y) img.set(x0 - 1, y, {40, 40, 40}), img.set(x1 + 1, y, {40, 40, 40});
   for (int x = x0 - 1; x <= x1 + 1; ++x) img.set(x, y0 - 1, {40, 40, 40}), img.set(x, y1 + 1, {40, 40, 40});

@@ -65,8 +65,8 @@ struct ColourBar {
   std::string label;
   Real low = 0, high = 1;
   surface::Palette palette = surface::Palette::heat;
-  // The baking palette browned from this raw colour: the one food of a scene whose foods share it.
-  std::optional<surface::Lab> raw;
+  // The baking palette browned from each food's raw colour, a column per food side by side (none: the dough's).
+  std::vector<surface::Lab> raws;
 };
 
 struct ParticleView {
@@ -76,7 +76,10 @@ struct ParticleView {
 };
 
 // The colour bar with its ticks and label, drawn 110 pixels in from the
-// picture's right edge, over its middle three fifths.
+// picture's right edge, over its middle three fifths; a browning bar of
+// several foods is a column per food (22 pixels wide in all, 8 a column from
+// three foods on, at most 48), each browning from its raw colour, so a
+// column's foot is that food's colour in the picture.
 void draw_colour_bar(Image& img, const ColourBar& bar, const TextRenderer& text);
 
 // A collider in the picture (geometry/collider_mesh.hpp): its triangles at the

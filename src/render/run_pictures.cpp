@@ -158,12 +158,13 @@ RenderRunResult render_run(const fs::path& run_dir, const RenderRunOptions& o) {
     bar.label = colour;
     bar.low = range.first, bar.high = range.second;
     bar.palette = colour_palette(colour);
-    // A scene whose foods all have one raw colour of their own (the lava cake's chocolate) shows its ramp.
-    const auto& raws = geometry.raw_colour;
-    if (!raws.empty() && surface::lab_distance(raws.front(), surface::dough_lab()) > 0 &&
-        std::all_of(raws.begin(), raws.end(),
-                    [&](const surface::Lab& c) { return surface::lab_distance(c, raws.front()) == 0; }))
-      bar.raw = raws.front();
+    // Each food's ramp from its own raw colour (the lava cake's chocolate; the s'more's marshmallow and
+    // crackers side by side), once per distinct colour; a scene of dough alone keeps the dough's bar.
+    for (const surface::Lab& c : geometry.raw_colour)
+      if (std::none_of(bar.raws.begin(), bar.raws.end(),
+                       [&](const surface::Lab& seen) { return surface::lab_distance(c, seen) == 0; }))
+        bar.raws.push_back(c);
+    if (bar.raws.size() == 1 && surface::lab_distance(bar.raws.front(), surface::dough_lab()) == 0) bar.raws.clear();
     return bar;
   };
   // One frame's picture: with its colour bar and full caption, or (a strip's tile) with the bake time only.

@@ -79,7 +79,7 @@ TEST(Render, ParticlesWithAColourBarAndTheSameImageOnAnyThreadCount) {
   RenderSettings settings;
   settings.width = 200, settings.height = 120;
   const TextRenderer text;
-  const ColourBar bar{"temperature", 20, 220, surface::Palette::heat};
+  const ColourBar bar{"temperature", 20, 220, surface::Palette::heat, {}};
   const Image a = render_particles(pv, settings, text, &bar);
   // The colour bar's top is the palette's hot end (red dominant).
   const std::uint8_t* top = a.at(a.width - 110 + 11, a.height / 5 + 2);
@@ -92,13 +92,29 @@ TEST(Render, ParticlesWithAColourBarAndTheSameImageOnAnyThreadCount) {
   EXPECT_EQ(a.rgb, b.rgb);
   // A browning bar for a food with its own raw colour (chocolate) runs from that colour: its foot is the
   // raw chocolate, where the dough's bar is pale.
-  ColourBar chocolate{"browning", 0, 1, surface::Palette::baking};
-  chocolate.raw = surface::Lab{17.4, 2.6, 1.4};
+  ColourBar chocolate{"browning", 0, 1, surface::Palette::baking, {}};
+  const surface::Lab cocoa{17.4, 2.6, 1.4};
+  chocolate.raws = {cocoa};
   const Image c = render_particles(pv, settings, text, &chocolate);
-  const std::uint8_t* foot = c.at(c.width - 110 + 11, c.height * 4 / 5 - 1);
-  const auto raw = surface::baking_colour(*chocolate.raw, 1.0 / (c.height * 4 / 5 - c.height / 5));
+  const int foot_y = c.height * 4 / 5 - 1;
+  const double foot_t = 1.0 / (c.height * 4 / 5 - c.height / 5);
+  const std::uint8_t* foot = c.at(c.width - 110 + 11, foot_y);
+  const auto raw = surface::baking_colour(cocoa, foot_t);
   for (int k = 0; k < 3; ++k) EXPECT_NEAR(int(foot[k]), int(raw[k]), 2) << k;
   EXPECT_LT(int(foot[0]) + foot[1] + foot[2], 200);  // dark brown, not the dough's cream (about 570)
+  // Two foods (chocolate and dough, as a scene mixing them): a column each, side by side, each from its own
+  // raw colour: the left column's foot is chocolate, the right one's the dough's cream.
+  ColourBar mixed = chocolate;
+  mixed.raws.push_back(surface::dough_lab());
+  const Image d = render_particles(pv, settings, text, &mixed);
+  const std::uint8_t* left = d.at(d.width - 110 + 3, foot_y);
+  const std::uint8_t* right = d.at(d.width - 110 + 19, foot_y);
+  const auto cream = surface::baking_colour(surface::dough_lab(), foot_t);
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_NEAR(int(left[k]), int(raw[k]), 2) << k;
+    EXPECT_NEAR(int(right[k]), int(cream[k]), 2) << k;
+  }
+  EXPECT_GT(int(right[0]) + right[1] + right[2], 500);
 }
 
 namespace {
