@@ -78,7 +78,7 @@ check '[ $? -eq 0 ] && grep -q "extends .*good_small.json" "$OUT/warm/log.txt" &
 check '[ $? -eq 0 ] && cmp -s "$OUT/warm/frames/00001.ply" "$OUT/warm-again/frames/00001.ply"' "a variant's resolved scene.json re-runs to the same frames"
 # A preset is named by validate and in the log, with what it gave.
 "$BAKESIM" validate "$ROOT/scenes/cookie-on-a-tray.json" > "$OUT/preset.txt"
-check 'grep -q "^material   .*materials.dough: preset cookie-dough (density [0-9.]* kg/m^3.*divided by the bake clock 360" "$OUT/preset.txt"' "validate says what the preset gave"
+check 'grep -q "^material   .*materials.dough: preset cookie-dough (density [0-9.]* kg/m^3.*divided by the bake clock 1440" "$OUT/preset.txt"' "validate says what the preset gave"
 # --preview: twice the spacing, at most 10 frames, pictures, into out/NAME-preview.
 sed 's/"time": {"end": 0.02, "fps": 100}/"name": "small", "time": {"end": 0.04, "fps": 500}/' \
   "$ROOT/tests/data/good_small.json" > "$OUT/small.json"

@@ -136,7 +136,7 @@ TEST(MpmBakes, CookieFromThePresetPuffsAndBakesThrough) {
   std::printf("preset cookie: volume ratio %.3f, height %.2f mm, core %.1f degC\n", cookie.volume_ratio,
               cookie.height * 1e3, cookie.core_temperature);
   RecordProperty("volume_ratio", std::to_string(cookie.volume_ratio));
-  EXPECT_GT(cookie.volume_ratio, 1.1);  // the leavener puffs it (at 3 mm: x1.46)
+  EXPECT_GT(cookie.volume_ratio, 1.1);  // the leavener puffs it (at 3 mm: x1.57; here x1.61)
   EXPECT_LT(cookie.volume_ratio, 2.5);
   EXPECT_GT(cookie.core_temperature, 95.0);  // baked through in 12 minutes at 180 degC
   EXPECT_LT(cookie.core_temperature, 180.0);
