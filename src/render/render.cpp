@@ -518,9 +518,12 @@ void draw_colour_bar(Image& img, const ColourBar& bar, const TextRenderer& text)
   const int x0 = img.width - 110, x1 = x0 + width, y0 = img.height / 5, y1 = img.height * 4 / 5;
   for (int y = y0; y <= y1; ++y) {
     const double t = double(y1 - y) / double(y1 - y0);
-    for (int x = x0; x <= x1; ++x) {
-      const int food = std::min(columns - 1, (x - x0) * columns / (width + 1));
-      img.set(x, y, per_food ? surface::baking_colour(bar.raws[food], t) : surface::palette_colour(bar.palette, t));
+    for (int food = 0; food < columns; ++food) {
+      const auto c = per_food ? surface::baking_colour(bar.raws[food], t) : surface::palette_colour(bar.palette, t);
+      // Column `food` spans the pixels x with (x − x0) columns / (width + 1) == food.
+      const int from = x0 + (food * (width + 1) + columns - 1) / columns,
+                to = x0 + ((food + 1) * (width + 1) - 1) / columns;
+      for (int x = from; x <= to; ++x) img.set(x, y, c);
     }
   }
   for (int y = y0 - 1; y <= y1 + 1; ++y) img.set(x0 - 1, y, {40, 40, 40}), img.set(x1 + 1, y, {40, 40, 40});

@@ -151,6 +151,14 @@ RenderRunResult render_run(const fs::path& run_dir, const RenderRunOptions& o) {
       run.scene.contains("environment") ? run.scene["environment"].value("bake_time_scale", 1.0) : 1.0;
   // The cut's axis names the pictures (parse_cut_plane accepted AXIS or AXIS=VALUE).
   const std::string stem = o.mode + "-" + colour + (settings.cut ? "-cut-" + o.cut.substr(0, 1) : "");
+  // Each food's browning ramp from its own raw colour (the lava cake's chocolate; the s'more's marshmallow
+  // and crackers side by side), once per distinct colour; a scene of dough alone keeps the dough's bar.
+  std::vector<surface::Lab> food_raws;
+  for (const surface::Lab& c : geometry.raw_colour)
+    if (std::none_of(food_raws.begin(), food_raws.end(),
+                     [&](const surface::Lab& seen) { return surface::lab_distance(c, seen) == 0; }))
+      food_raws.push_back(c);
+  if (food_raws.size() == 1 && surface::lab_distance(food_raws.front(), surface::dough_lab()) == 0) food_raws.clear();
   // The colour bar of a frame's picture (a mesh shows the value in the colour the particles show it).
   const auto colour_bar = [&](const ParticleSet& ps) {
     const auto range = colour_range(ps, colour, colour_range_given);
@@ -158,13 +166,7 @@ RenderRunResult render_run(const fs::path& run_dir, const RenderRunOptions& o) {
     bar.label = colour;
     bar.low = range.first, bar.high = range.second;
     bar.palette = colour_palette(colour);
-    // Each food's ramp from its own raw colour (the lava cake's chocolate; the s'more's marshmallow and
-    // crackers side by side), once per distinct colour; a scene of dough alone keeps the dough's bar.
-    for (const surface::Lab& c : geometry.raw_colour)
-      if (std::none_of(bar.raws.begin(), bar.raws.end(),
-                       [&](const surface::Lab& seen) { return surface::lab_distance(c, seen) == 0; }))
-        bar.raws.push_back(c);
-    if (bar.raws.size() == 1 && surface::lab_distance(bar.raws.front(), surface::dough_lab()) == 0) bar.raws.clear();
+    bar.raws = food_raws;
     return bar;
   };
   // One frame's picture: with its colour bar and full caption, or (a strip's tile) with the bake time only.

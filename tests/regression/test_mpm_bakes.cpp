@@ -44,21 +44,14 @@ std::vector<std::pair<int, int>> crust_bonds(const ParticleSet& ps, Real spacing
   return bonds;
 }
 
-// Runs a scene from scenes/ with the grid coarsened to `cell` to its end, on a
-// bake clock `clock_factor` times the scene's.
-Outcome bake(const std::string& name, double cell, bool follow_loaf_crust = false, double clock_factor = 1) {
+// Runs a scene from scenes/ with the grid coarsened to `cell` to its end.
+Outcome bake(const std::string& name, double cell, bool follow_loaf_crust = false) {
   const std::string dir = std::string(BAKESIM_SOURCE_DIR) + "/scenes";
   std::ifstream in(dir + "/" + name + ".json");
   std::stringstream ss;
   ss << in.rdbuf();
   auto doc = nlohmann::json::parse(ss.str());
   doc["solver"]["mpm"]["cell_size"] = cell;
-  // The same bake in fewer mechanics seconds: a faster bake clock (the solver
-  // divides the viscosities by it), the oven minutes unchanged.
-  if (clock_factor != 1) {
-    doc["environment"]["bake_time_scale"] = doc["environment"]["bake_time_scale"].get<double>() * clock_factor;
-    doc["time"]["end"] = doc["time"]["end"].get<double>() / clock_factor;
-  }
   Scene scene = parse_scene(doc.dump(), name + ".json", dir);
   mpm::MpmSolver solver(scene.mpm);
   const auto before = compute_body_stats(solver.particles(), 1, Vec3::UnitY())[0];
