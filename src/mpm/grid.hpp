@@ -60,6 +60,8 @@ struct HeatState {
   Real theta;           // θ after the step, °C
   Real exchange;        // Σ a β / V: boundary conductance per volume, W/(K m³)
   Real exchange_theta;  // Σ a β θ_out / V, W/m³
+  Real exchange_area;   // Σ a / V over the faces that exchange (air and hot colliders), 1/m
+  Real fill;            // φ = V / Δx³, the volume fraction whose level 1/2 is the face
   Real water_ratio;     // r = Δt ΔW / W (never below −1)
   Real saturation;      // s of the node, for the next water flux
   Real air_area;        // area facing the air per volume, 1/m

@@ -157,6 +157,7 @@ class MpmSolver final : public Solver {
   std::vector<Real>& exchange_t_;  // Σ S β θ_amb, W
   std::vector<Real>& air_area_;    // area facing the air (evaporation), m²
   std::vector<Real>& air_depth_;   // distance to the centroid of that area (the face), m
+  std::vector<Real> face_depth_;   // G2P to browning: depth below the face (the fill's level 1/2), m
   std::vector<Real>& heat_src_;    // P2G heat terms: scalar S β (θ_amb − θ), W
   std::vector<Vec3>& heat_vec_;    //   and −V κ ∇θ · 4/Δx, W
   std::vector<Real>& water_src_;   // P2G water terms: −evaporation, kg/s

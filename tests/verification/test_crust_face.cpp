@@ -43,7 +43,7 @@ json slab(const std::string& solver) {
 }
 
 struct FaceReading {
-  double face = 0, particle = 0;
+  double face = 0, particle = 0, outer = 0;
   int count = 0;
 };
 
@@ -56,6 +56,7 @@ FaceReading read_faces(const Solver& s) {
   double outer = 0;
   for (const Vec3& p : x) outer = std::max(outer, std::abs(p.x()));
   FaceReading r;
+  r.outer = outer;
   for (std::size_t i = 0; i < x.size(); ++i) {
     const Vec3& p = x[i];
     if (std::abs(p.x()) < outer - 1e-6 || std::abs(p.y() - 0.5 * kWide) > 0.25 * kWide ||
@@ -86,24 +87,25 @@ TEST_P(CrustFaceOfASlab, FollowsThePlaneWallSurfaceTemperature) {
     };
     const double rise = kAir - kStart;
     const double face_error = (r.face - series(kHalf)) / rise;
-    // SPH: the outermost particles sit half a spacing inside the face; MPM's exchange at the
-    // face's nodes holds them at the face's temperature.
-    const double depth = GetParam() == "sph" ? 0.5 * kSpacing : 0.0;
+    // The outermost particles sit inside the face: SPH's half a spacing, MPM's points a
+    // quarter of a cell (two to a cell across).
+    const double depth = kHalf - r.outer;
     const double particle_error = (r.particle - series(kHalf - depth)) / rise;
     std::printf(
-        "%s Fo %.2f: series at the face %.2f degC, face %.2f (%+.3f of the rise), particle %.2f against %.2f "
-        "(%+.3f)\n",
-        GetParam().c_str(), fo, series(kHalf), r.face, face_error, r.particle, series(kHalf - depth), particle_error);
-    if (GetParam() == "sph") {
-      // With the lumped exchange h (θ_out − θ) at the particle (before the face profile) the
-      // particles ran 0.043 of the rise hot at Fo 0.3 and their faces 0.064 cold at Fo 0.05.
-      EXPECT_LT(std::abs(face_error), 0.03) << "Fo " << fo;
-      EXPECT_LT(std::abs(particle_error), 0.03) << "Fo " << fo;
-    } else {
-      // A material without water has no crust: the face is the point's own temperature.
-      EXPECT_EQ(r.face, r.particle);
-      EXPECT_LT(std::abs(particle_error), 0.08) << "Fo " << fo;
-    }
+        "%s Fo %.2f: series at the face %.2f degC, face %.2f (%+.3f of the rise), particle %.2f at %.2f mm against "
+        "%.2f (%+.3f)\n",
+        GetParam().c_str(), fo, series(kHalf), r.face, face_error, r.particle, 1e3 * depth, series(kHalf - depth),
+        particle_error);
+    // SPH: with the lumped exchange h (θ_out − θ) at the particle (before the face profile) the
+    // particles ran 0.043 of the rise hot at Fo 0.3 and their faces 0.064 cold at Fo 0.05.
+    // MPM (measured −0.042 / −0.027 / +0.005 at the face, −0.046 / −0.030 / +0.005 at the
+    // points): its points read the temperature of the grid's nodes, a cell apart, and at Fo
+    // 0.05 heat has reached about a cell (√(α t) = 2.2 mm), so the outer points lag; before
+    // they took the face's heat through their depth they stood for their faces, −0.074 /
+    // −0.048 / +0.003 of the rise below the face's series.
+    const double limit = GetParam() == "sph" || fo > 0.2 ? 0.03 : 0.05;
+    EXPECT_LT(std::abs(face_error), limit) << "Fo " << fo;
+    EXPECT_LT(std::abs(particle_error), limit) << "Fo " << fo;
     RecordProperty("face_error_fo_" + std::to_string(int(fo * 100)), std::to_string(face_error));
   }
 }

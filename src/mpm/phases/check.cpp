@@ -15,15 +15,15 @@ namespace bakesim::mpm {
 
 // Crust colour (Zanoni et al. 1995, physics/browning.hpp) after this step's
 // heat transfer, on the bake clock. A point with area facing the air browns at
-// its face's temperature (physics/heat.hpp, CrustFace; the face is the
-// centroid of its air-facing nodes, `air_depth` away), any other at its own.
-// The exchange at the face's grid nodes already holds a point at its face's
-// temperature (tests/verification/test_crust_face.cpp), so only a moist
-// point's dried crust adds to it: k_m = ∞. Faces against hot colliders take the
-// point's temperature.
+// its face's temperature (physics/heat.hpp, CrustFace; the face is the fill's
+// level 1/2, `face_depth_` away, as in G2P's exchange): the point takes the
+// face's heat through its depth in series (G2P), so its face stands above it
+// by the same profile, through its dried crust and the moist part below it
+// (k_m the point's conductivity with the heat pipe), or through the whole
+// depth where it holds no water. Faces against hot colliders take the point's
+// temperature.
 void MpmSolver::phase_browning(Real dt) {
   ScopedPhase t(timers_, t_browning_);
-  constexpr Real kStandsForItsFace = std::numeric_limits<Real>::infinity();  // k_m: no moist-part resistance
   const Oven& oven = setup_.oven;
   const Real air = oven.air_temperature(bake_time());
   const Real dt_bake = oven.bake_step(dt);
@@ -34,10 +34,17 @@ void MpmSolver::phase_browning(Real dt) {
         const Material& mat = setup_.materials[material_[p]];
         const PoreWater& pw = mat.moisture;
         surface_temperature_[p] = theta;
-        if (air_area_[p] > 0 && moist_ && pw.active())
-          surface_temperature_[p] =
-              pw.crust_face(air_depth_[p], moisture_[p], water_[p], mat.conductivity, kStandsForItsFace)
-                  .temperature(theta, air, oven.surface_coefficient(theta, air));
+        if (air_area_[p] > 0) {
+          const Real kappa = mat.conductivity + cell_k_[p];
+          CrustFace face;
+          if (moist_ && pw.active()) {
+            face = pw.crust_face(face_depth_[p], moisture_[p], water_[p], mat.conductivity, kappa);
+          } else {
+            face.face_distance = face_depth_[p];
+            face.crust_conductivity = face.moist_conductivity = kappa;
+          }
+          surface_temperature_[p] = face.temperature(theta, air, oven.surface_coefficient(theta, air));
+        }
         // Moist dough browns only above its boiling point (physics/browning.hpp, advance_above).
         browning_[p] =
             oven.browning.advance_above(browning_[p], surface_temperature_[p], pw.browning_threshold(moist_), dt_bake);

@@ -23,6 +23,7 @@ void MpmSolver::g2p(Real dt) {
   const Vec3 origin = grid_origin_;
   const std::size_t nz = nz_, syz = std::size_t(ny_) * nz_;
   const Real d_inv = 4.0 * inv_dx_;  // D⁻¹ (x_i − x_p) with offsets in cells: 4/Δx² · Δx
+  if constexpr (kThermal) face_depth_.resize(x_.size());
   parallel_for(
       x_.size(),
       [&](std::size_t p) {
@@ -32,11 +33,12 @@ void MpmSolver::g2p(Real dt) {
         Real b[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};  // b[col][row] = Σ w v_row offset_col
         // Thermal gathers: Σ w of {Δθ, k, kθ, r, k_air} and Σ w o of {θ_new, s}.
         // (moisture: and Σ w r_v, Σ w o ρ_v)
-        // (and Σ w o k_air: the centroid of the particle's air-facing area, the face)
-        Real hs[6] = {0, 0, 0, 0, 0, 0}, hg[3][4] = {{0, 0, 0, 0}, {0, 0, 0, 0}, {0, 0, 0, 0}};
+        // (and Σ w o k_air: the centroid of the particle's air-facing area, the face;
+        // Σ w a_x, Σ w φ and Σ w o φ: the area it exchanges through, the fill and its gradient)
+        Real hs[8] = {0, 0, 0, 0, 0, 0, 0, 0}, hg[3][5] = {{0, 0, 0, 0, 0}, {0, 0, 0, 0, 0}, {0, 0, 0, 0, 0}};
         for (int i = 0; i < 3; ++i) {
           Real vi[3] = {0, 0, 0}, bi[2][3] = {{0, 0, 0}, {0, 0, 0}};  // Σ over j, k at this i
-          Real hsi[6] = {0, 0, 0, 0, 0, 0}, hgi[3][4] = {{0, 0, 0, 0}, {0, 0, 0, 0}, {0, 0, 0, 0}};
+          Real hsi[8] = {0, 0, 0, 0, 0, 0, 0, 0}, hgi[3][5] = {{0, 0, 0, 0, 0}, {0, 0, 0, 0, 0}, {0, 0, 0, 0, 0}};
           for (int j = 0; j < 3; ++j) {
             const Real oy = j - ay.frac;
             const std::size_t row_index = std::size_t(ax.base + i) * syz + std::size_t(ay.base + j) * nz + az.base;
@@ -58,7 +60,7 @@ void MpmSolver::g2p(Real dt) {
             }
             if constexpr (kThermal) {
               const HeatState* hrow = &heat_state_[row_index];
-              Real sj[6] = {0, 0, 0, 0, 0, 0}, tj[4] = {0, 0, 0, 0}, tz[4] = {0, 0, 0, 0};
+              Real sj[8] = {0, 0, 0, 0, 0, 0, 0, 0}, tj[5] = {0, 0, 0, 0, 0}, tz[5] = {0, 0, 0, 0, 0};
               for (int kk = 0; kk < 3; ++kk) {
                 const Real w = az.w[kk], oz = kk - az.frac;
                 const HeatState& f = hrow[kk];
@@ -67,9 +69,11 @@ void MpmSolver::g2p(Real dt) {
                 tj[0] += w * f.theta, tj[1] += w * f.saturation, tj[2] += w * f.vapour_density;
                 tz[0] += w * f.theta * oz, tz[1] += w * f.saturation * oz, tz[2] += w * f.vapour_density * oz;
                 tj[3] += w * f.air_area, tz[3] += w * f.air_area * oz;
+                sj[6] += w * f.exchange_area, sj[7] += w * f.fill;
+                tj[4] += w * f.fill, tz[4] += w * f.fill * oz;
               }
-              for (int q = 0; q < 6; ++q) hsi[q] += wy * sj[q];
-              for (int q = 0; q < 4; ++q) {
+              for (int q = 0; q < 8; ++q) hsi[q] += wy * sj[q];
+              for (int q = 0; q < 5; ++q) {
                 hgi[0][q] += wy * tj[q];  // carried to x below
                 hgi[1][q] += wy * tj[q] * oy;
                 hgi[2][q] += wy * tz[q];
@@ -84,8 +88,8 @@ void MpmSolver::g2p(Real dt) {
             b[2][r] += wx * bi[1][r];
           }
           if constexpr (kThermal) {
-            for (int q = 0; q < 6; ++q) hs[q] += wx * hsi[q];
-            for (int q = 0; q < 4; ++q) {
+            for (int q = 0; q < 8; ++q) hs[q] += wx * hsi[q];
+            for (int q = 0; q < 5; ++q) {
               hg[0][q] += wx * hgi[0][q] * ox;
               hg[1][q] += wx * hgi[1][q];
               hg[2][q] += wx * hgi[2][q];
@@ -116,8 +120,25 @@ void MpmSolver::g2p(Real dt) {
           // where the material was cut (the lava cake's knife) FLIP increments took
           // particles to 6 °C in a 20–25 °C room.
           temperature_[p] = std::clamp(temperature_[p] + hs[0], flip_bounds_[0], flip_bounds_[1]);
-          exchange_[p] = volume * hs[1];
-          exchange_t_[p] = volume * hs[2];
+          // The particle's share of the boundary, S β, in series with conduction
+          // across its depth d below the face, 1/(1/β + d/κ) per area: the nodes
+          // of the face spread the exchange over points up to two cells in,
+          // colder than the face while heat flows in, and taking it at their own
+          // temperature overstated it by 1 + β d/κ (+24% over Fo 0.25 for a slab
+          // on a tray at β Δx/κ = 1.2; docs/physics.md). The face is the fill's
+          // level 1/2, d = (φ − 1/2)/|∇φ| from the point.
+          const Real area = volume * hs[6];
+          Real series = 1, depth = 0;
+          if (hs[1] > 0 && area > 0) {
+            const Real grad = d_inv * Vec3(hg[0][4], hg[1][4], hg[2][4]).norm();
+            depth = grad > 0 ? std::clamp((hs[7] - Real(0.5)) / grad, Real(0), 2 * dx_) : 2 * dx_;
+            const Real kappa = setup_.materials[material_[p]].conductivity + cell_k_[p];
+            const Real beta = volume * hs[1] / area;
+            if (kappa > 0) series = 1 / (1 + beta * depth / kappa);
+          }
+          face_depth_[p] = depth;
+          exchange_[p] = series * volume * hs[1];
+          exchange_t_[p] = series * volume * hs[2];
           // Moisture (physics/water.hpp): the water that arrives or leaves as vapour
           // condenses or evaporates here, giving or taking h_fg; then the boiling cap.
           const Real vapour_gain = water_[p] * hs[5];

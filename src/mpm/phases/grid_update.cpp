@@ -69,6 +69,7 @@ void MpmSolver::phase_grid(Real dt) {
                                           heat_sums_[k + nz].volume - heat_sums_[k - nz].volume,
                                           heat_sums_[k + 1].volume - heat_sums_[k - 1].volume);
           SurfaceExchange hot;  // the parts facing hot colliders
+          Real hot_area = 0;
           bool near = false;
           for (std::size_t ci = 0; ci < setup_.colliders.size(); ++ci) {
             const Collider& c = setup_.colliders[ci];
@@ -79,7 +80,10 @@ void MpmSolver::phase_grid(Real dt) {
               const Vec3 n = pose.rotation * w.normal;
               const Real facing = std::max(Real(0), area.dot(n));
               area -= facing * n;
-              if (c.temperature) hot.add(facing, c.heat_transfer_coefficient, collider_temperatures_[ci]);
+              if (c.temperature) {
+                hot.add(facing, c.heat_transfer_coefficient, collider_temperatures_[ci]);
+                hot_area += facing;
+              }
             }
             if (w.distance >= on_face) continue;
             const Vec3 vc = pose.velocity_at(xi);
@@ -118,6 +122,8 @@ void MpmSolver::phase_grid(Real dt) {
           s.theta = theta + dtheta;
           s.exchange = exchanged.conductance * inv_v;
           s.exchange_theta = exchanged.drive * inv_v;
+          s.exchange_area = (air_area + hot_area) * inv_v;
+          s.fill = volume * inv_dx_ * inv_dx_ * inv_dx_;
           s.water_ratio = ratio;
           s.saturation = sat;
           s.air_area = air_area * inv_v;
