@@ -116,6 +116,18 @@ inline std::vector<std::vector<double>> read_csv(const std::string& path, std::v
   return rows;
 }
 
+// The n-th root of λ tan λ = Bi, in (nπ, nπ + π/2), by bisection on λ sin λ − Bi cos λ.
+inline double plane_wall_root(double biot, int n) {
+  double lo = n * kPi + 1e-12, hi = n * kPi + 0.5 * kPi - 1e-12;
+  for (int it = 0; it < 200; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    const double f = mid * std::sin(mid) - biot * std::cos(mid);
+    const double flo = lo * std::sin(lo) - biot * std::cos(lo);
+    ((f > 0) == (flo > 0) ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
 // Plane wall of half-thickness L, initially uniform, exchanging through
 // h (T∞ − T) at x = ±L: (T(x,t) − T∞)/(T0 − T∞) = Σ C_n exp(−λ_n² Fo) cos(λ_n x/L),
 // λ_n tan λ_n = Bi, C_n = 4 sin λ_n / (2 λ_n + sin 2 λ_n) (Incropera Eq 5.42);
@@ -123,18 +135,22 @@ inline std::vector<std::vector<double>> read_csv(const std::string& path, std::v
 inline double plane_wall(double biot, double fourier, double x_over_l = 0) {
   double sum = 0;
   for (int n = 0; n < 60; ++n) {
-    // Root in (nπ, nπ + π/2), by bisection on λ sin λ − Bi cos λ.
-    double lo = n * kPi + 1e-12, hi = n * kPi + 0.5 * kPi - 1e-12;
-    for (int it = 0; it < 200; ++it) {
-      const double mid = 0.5 * (lo + hi);
-      const double f = mid * std::sin(mid) - biot * std::cos(mid);
-      const double flo = lo * std::sin(lo) - biot * std::cos(lo);
-      ((f > 0) == (flo > 0) ? lo : hi) = mid;
-    }
-    const double l = 0.5 * (lo + hi);
+    const double l = plane_wall_root(biot, n);
     sum += 4 * std::sin(l) / (2 * l + std::sin(2 * l)) * std::exp(-l * l * fourier) * std::cos(l * x_over_l);
   }
   return sum;
+}
+
+// Q/Q0 of the same wall (Incropera Eq 5.46): the share of the heat it can take
+// that has come in by Fo; also that of a wall of thickness L heated on one face
+// and insulated on the other (its mirror image is the other half).
+inline double plane_wall_energy_fraction(double biot, double fourier) {
+  double sum = 0;
+  for (int n = 0; n < 200; ++n) {
+    const double l = plane_wall_root(biot, n);
+    sum += 4 * std::sin(l) / (2 * l + std::sin(2 * l)) * std::sin(l) / l * std::exp(-l * l * fourier);
+  }
+  return 1 - sum;
 }
 
 }  // namespace bakesim::test_support

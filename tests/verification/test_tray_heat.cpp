@@ -50,25 +50,6 @@ json slab_on_tray(const std::string& solver) {
                      {"heat_transfer_coefficient", kBeta}}})}};
 }
 
-// Q/Q0 of a plane wall of thickness L heated on one face (the half of a
-// symmetric wall of thickness 2L): 1 − Σ C_n sin(λ_n)/λ_n exp(−λ_n² Fo),
-// λ_n tan λ_n = Bi.
-double energy_fraction(double biot, double fourier) {
-  double sum = 0;
-  for (int n = 0; n < 200; ++n) {
-    double lo = n * kPi + 1e-12, hi = n * kPi + 0.5 * kPi - 1e-12;
-    for (int it = 0; it < 200; ++it) {
-      const double mid = 0.5 * (lo + hi);
-      ((mid * std::sin(mid) - biot * std::cos(mid) > 0) == (lo * std::sin(lo) - biot * std::cos(lo) > 0) ? lo : hi) =
-          mid;
-    }
-    const double l = 0.5 * (lo + hi);
-    const double c = 4 * std::sin(l) / (2 * l + std::sin(2 * l));
-    sum += c * std::sin(l) / l * std::exp(-l * l * fourier);
-  }
-  return 1 - sum;
-}
-
 double heat_in(const Solver& s) {
   for (const auto& [name, value] : s.frame_quantities())
     if (name == "heat_in") return value;
@@ -93,7 +74,7 @@ TEST_P(SlabOnAHotTray, TakesInThePlaneWallSeriesHeat) {
   const double q_max = kRho * kCp * kSide * kSide * kThick * (kTray - kStart);
   for (double fo : {0.083, 0.25, 0.5}) {
     test_support::advance_to(s, fo * kThick * kThick / alpha / kClock);
-    const double ratio = heat_in(s) / (q_max * energy_fraction(biot, fo));
+    const double ratio = heat_in(s) / (q_max * test_support::plane_wall_energy_fraction(biot, fo));
     RecordProperty("ratio_fo_" + std::to_string(int(fo * 1000)), std::to_string(ratio));
     EXPECT_NEAR(ratio, 1.0, 0.07) << GetParam() << " at Fo " << fo;
   }
