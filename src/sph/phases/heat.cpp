@@ -153,21 +153,34 @@ void SphSolver::phase_heat(Real dt) {
       [&](std::size_t i) {
         dtemp_[i] = 0.0;
         air_facing_[i] = 0;
+        face_share_[i] = 1;
         face_coefficient_[i] = 0;  // no face: the browning phase takes the particle's temperature
         if (!surface_[i] || area_[i] <= 0 || setup_.bodies[body_[i]].hold_temperature) return;
         Real outside = air, coefficient = oven.surface_coefficient(temperature_[i], air);
         bool found = false;  // touching a heated collider (then no vapour leaves here)
-        if (heated_colliders_) {
-          for (std::size_t ci = 0; ci < walls_.size(); ++ci) {
-            const Collider& c = walls_[ci];
-            if (!c.temperature || found) continue;
-            for_each_wall_of(ci, x_[i], touch, [&](const WallContact&, const Vec3&) { found = true; });
-            if (found) {
-              outside = wall_temperatures_[ci];
-              coefficient = c.heat_transfer_coefficient;
-            }
+        // The share of the area facing colliders without a temperature, which insulate it
+        // (as in MPM): the colour gradient's component along the wall's normal. The
+        // domain's walls (walls_[0]) do not: in MPM the air reaches a face on them.
+        Real insulated = 0;
+        const Real len = colour_grad_[i].norm();
+        for (std::size_t ci = 0; ci < walls_.size(); ++ci) {
+          const Collider& c = walls_[ci];
+          if (!c.temperature) {
+            if (ci == 0) continue;
+            if (len > 0)
+              for_each_wall_of(ci, x_[i], touch, [&](const WallContact& w, const Vec3&) {
+                insulated = std::max(insulated, std::clamp(colour_grad_[i].dot(w.normal) / len, Real(0), Real(1)));
+              });
+            continue;
           }
-          const Real len = colour_grad_[i].norm();
+          if (found) continue;
+          for_each_wall_of(ci, x_[i], touch, [&](const WallContact&, const Vec3&) { found = true; });
+          if (found) {
+            outside = wall_temperatures_[ci];
+            coefficient = c.heat_transfer_coefficient;
+          }
+        }
+        if (heated_colliders_) {
           for (std::size_t ci = 0; ci < meshes_.size(); ++ci) {
             const Collider& c = meshes_[ci];
             if (!c.temperature || found || len <= 0) continue;
@@ -179,6 +192,9 @@ void SphSolver::phase_heat(Real dt) {
             }
           }
         }
+        const Real share = found ? 1 : 1 - insulated;
+        face_share_[i] = share;
+        if (!(share > 0)) return;  // against an insulating wall all round: no exchange, no vapour leaves
         air_facing_[i] = !found;
         face_outside_[i] = outside;
         face_coefficient_[i] = coefficient;
@@ -186,7 +202,7 @@ void SphSolver::phase_heat(Real dt) {
         const Real before = temperature_[i];
         // The face takes h (θ_out − θ_f) and passes it to the particle through its half-layer.
         const Real to_centre = crust_face(i).coefficient_to_centre(before, outside, coefficient);
-        temperature_[i] = SurfaceExchange::relax(before, outside, to_centre, area_[i], capacity, dt_bake);
+        temperature_[i] = SurfaceExchange::relax(before, outside, to_centre, share * area_[i], capacity, dt_bake);
         dtemp_[i] = exchanged_energy(before, temperature_[i], capacity);
       },
       1024);
