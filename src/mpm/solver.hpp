@@ -170,6 +170,8 @@ class MpmSolver final : public Solver {
   std::vector<Real>& vapour_src_;      // −h_m (ρ_v − ρ_v,air) S_air, kg/s
   std::vector<Vec3>& vapour_vec_;      // V q_v · 4/Δx, kg/s
   std::vector<Real>& cell_k_;          // moisture's change of κ: heat pipe + drying, W/(m K)
+  // κ of point p: its material's with moisture's change (heat pipe, drying), W/(m K).
+  Real point_conductivity(std::size_t p) const { return setup_.materials[material_[p]].conductivity + cell_k_[p]; }
   std::vector<std::int32_t>& material_;
   std::vector<std::int32_t>& body_;
   std::vector<std::int32_t>& id_;

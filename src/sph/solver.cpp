@@ -208,7 +208,7 @@ void SphSolver::check_initial_overlaps() const {
                                                b.name, a.name, x_[i].x(), x_[i].y(), x_[i].z()));
       }
   }
-  for (std::size_t c = 1; c < walls_.size(); ++c)  // walls_[0] is the domain, checked when seeding
+  for (std::size_t c = kDomainWall + 1; c < walls_.size(); ++c)  // the domain is checked when seeding
     for (std::size_t i = 0; i < x_.size(); ++i)
       for_each_wall_of(c, x_[i], 0.0, [&](const WallContact& w, const Vec3&) {
         if (w.distance < 0)

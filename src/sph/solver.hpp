@@ -210,6 +210,9 @@ class SphSolver final : public Solver {
   bool anchors_valid_ = false;     // false at the start: the first step searches
   bool anchors_moved_ = false;     // this step searched: new anchors (the open-space grid follows them)
   long searches_ = 0;
+  // walls_[kDomainWall] is the domain's box; the scene's analytic colliders follow it.
+  static constexpr std::size_t kDomainWall = 0;
+
   std::vector<Collider> walls_;        // analytic colliders incl. the domain box
   std::vector<Collider> meshes_;       // mesh colliders
   std::vector<RigidPose> wall_poses_;  // per analytic collider, at the end of the step (moving ones)

@@ -132,7 +132,7 @@ void MpmSolver::g2p(Real dt) {
           if (hs[1] > 0 && area > 0) {
             const Real grad = d_inv * Vec3(hg[0][4], hg[1][4], hg[2][4]).norm();
             depth = grad > 0 ? std::clamp((hs[7] - Real(0.5)) / grad, Real(0), 2 * dx_) : 2 * dx_;
-            const Real kappa = setup_.materials[material_[p]].conductivity + cell_k_[p];
+            const Real kappa = point_conductivity(p);
             const Real beta = volume * hs[1] / area;
             if (kappa > 0) series = 1 / (1 + beta * depth / kappa);
           }

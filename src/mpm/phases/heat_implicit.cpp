@@ -58,9 +58,7 @@ void MpmSolver::phase_heat_implicit(Real dt) {
       }
     grad *= gscale;
   };
-  auto conductance = [&](std::uint32_t p) {
-    return j_[p] * volume0_[p] * (setup_.materials[material_[p]].conductivity + cell_k_[p]);
-  };
+  auto conductance = [&](std::uint32_t p) { return j_[p] * volume0_[p] * point_conductivity(p); };
   // A x restricted to the active nodes.
   auto apply = [&](const std::vector<Real>& x, std::vector<Real>& y) {
     parallel_for(

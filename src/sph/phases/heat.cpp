@@ -160,13 +160,12 @@ void SphSolver::phase_heat(Real dt) {
         bool found = false;  // touching a heated collider (then no vapour leaves here)
         // The share of the area facing colliders without a temperature, which insulate it
         // (as in MPM): the colour gradient's component along the wall's normal. The
-        // domain's walls (walls_[0]) do not: in MPM the air reaches a face on them.
+        // domain's walls (no temperature) are skipped: in MPM the air reaches a face on them.
         Real insulated = 0;
         const Real len = colour_grad_[i].norm();
-        for (std::size_t ci = 0; ci < walls_.size(); ++ci) {
+        for (std::size_t ci = kDomainWall + 1; ci < walls_.size(); ++ci) {
           const Collider& c = walls_[ci];
           if (!c.temperature) {
-            if (ci == 0) continue;
             if (len > 0)
               for_each_wall_of(ci, x_[i], touch, [&](const WallContact& w, const Vec3&) {
                 insulated = std::max(insulated, std::clamp(colour_grad_[i].dot(w.normal) / len, Real(0), Real(1)));
