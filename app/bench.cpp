@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <vector>
 
 #include "core/errors.hpp"
 #include "core/timers.hpp"
@@ -29,20 +30,25 @@ int run_scene_bench(const BenchOptions& opt, const std::vector<int>& threads, in
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(t));
     auto solver = make_solver(scene);
     std::map<std::string, long> bounds;  // steps limited by each bound
-    long steps = 0, solve_steps = 0, solve_iterations = 0;
-    int most_iterations = 0;
-    const char* solve_name = nullptr;
+    long steps = 0;
+    struct SolveTally {
+      long steps = 0, iterations = 0;
+      int most = 0;
+    };
+    std::vector<std::pair<std::string, SolveTally>> solves;  // in the order the solver names them
     Stopwatch clock;
     while (solver->time() < scene.end_time - 1e-12) {
       const Real dt = std::min(solver->max_stable_dt(), scene.end_time - solver->time());
       ++bounds[solver->active_dt_bound()];
       solver->step(dt);
       ++steps;
-      if (const Solver::SolveIterations solve = solver->last_solve_iterations(); solve.name) {
-        solve_name = solve.name;
-        ++solve_steps;
-        solve_iterations += solve.iterations;
-        most_iterations = std::max(most_iterations, solve.iterations);
+      for (const Solver::SolveIterations& solve : solver->last_solve_iterations()) {
+        if (!solve.name) continue;
+        auto it = std::find_if(solves.begin(), solves.end(), [&](const auto& s) { return s.first == solve.name; });
+        if (it == solves.end()) it = solves.insert(solves.end(), {solve.name, SolveTally{}});
+        ++it->second.steps;
+        it->second.iterations += solve.iterations;
+        it->second.most = std::max(it->second.most, solve.iterations);
       }
     }
     const double secs = clock.seconds();
@@ -54,10 +60,10 @@ int run_scene_bench(const BenchOptions& opt, const std::vector<int>& threads, in
     std::string limits;
     for (const auto& [name, count] : bounds) limits += fmt::format(" {} {:.1f}%", name, 100.0 * count / steps);
     fmt::print("steps limited by:{}\n", limits);
-    // The implicit solve's conjugate-gradient iterations: what its phase's time is made of.
-    if (solve_name)
-      fmt::print("{}: {:.1f} iterations a step (mean), {} at most\n", solve_name,
-                 double(solve_iterations) / double(solve_steps), most_iterations);
+    // Each iterative solve's iterations: what its phase's time is made of.
+    for (const auto& [name, tally] : solves)
+      fmt::print("{}: {:.1f} iterations a step (mean), {} at most\n", name,
+                 double(tally.iterations) / double(tally.steps), tally.most);
     if (opt.phases) fmt::print("{}", solver->timers().report(steps));
     std::fflush(stdout);
   }

@@ -1,6 +1,7 @@
 #pragma once
 // The thin interface the frame loop drives. Each solver owns its state; the
 // loop asks for a stable step, steps, and reads particles for output.
+#include <array>
 #include <string>
 #include <utility>
 #include <vector>
@@ -35,14 +36,15 @@ class Solver {
   // Solver-specific per-frame numbers for stats.csv (name, value), the same
   // names on every frame.
   virtual std::vector<std::pair<std::string, Real>> frame_quantities() const { return {}; }
-  // The last step's implicit solve (the SPH viscosity, the MPM heat) for
-  // `bakesim bench`: its name (static storage; nullptr where the step has
-  // none) and its conjugate-gradient iterations.
+  // The last step's iterative solves (the SPH viscosity and pressure, the
+  // MPM heat) for `bakesim bench`: each one's name (static storage; nullptr
+  // for an unused entry) and its iterations.
   struct SolveIterations {
     const char* name = nullptr;
     int iterations = 0;
   };
-  virtual SolveIterations last_solve_iterations() const { return {}; }
+  using StepSolves = std::array<SolveIterations, 3>;
+  virtual StepSolves last_solve_iterations() const { return {}; }
 
   // Checkpoints (src/io/checkpoint.hpp): the particle attributes, all of them,
   // plus the named numbers returned here are everything the next steps depend

@@ -110,6 +110,11 @@ sph::Settings build_settings(const Ctx& c, const json& doc) {
     c.fail("solver.sph.adaptive_smoothing.range", "the lower limit exceeds the upper one");
   st.artificial_stress = sj["artificial_stress"]["epsilon"].get<double>();
   st.artificial_stress_exponent = sj["artificial_stress"]["exponent"].get<double>();
+  if (sj["pressure_solver"].get<std::string>() == "divergence_free")
+    st.pressure_solver = sph::PressureSolver::divergence_free;
+  st.density_tolerance = sj["pressure_solve"]["density_tolerance"].get<double>();
+  st.divergence_tolerance = sj["pressure_solve"]["divergence_tolerance"].get<double>();
+  st.pressure_max_iterations = sj["pressure_solve"]["max_iterations"].get<int>();
   st.implicit_tolerance = sj["implicit_viscosity"]["tolerance"].get<double>();
   st.implicit_max_iterations = sj["implicit_viscosity"]["max_iterations"].get<int>();
   st.cfl = doc["solver"]["cfl"].get<double>();
@@ -135,6 +140,15 @@ sph::Setup build_sph_setup(const Ctx& c, json& doc, const SceneParts& parts) {
   }
   sph::Settings& st = setup.settings;
   st = build_settings(c, doc);
+  // Rising bubbles press by a gas law: their density is what the law
+  // balances, not a rest density a solve could hold.
+  if (st.pressure_solver == sph::PressureSolver::divergence_free)
+    for (std::size_t i = 0; i < setup.bodies.size(); ++i)
+      if (setup.bodies[i].bubbles.fraction > 0)
+        c.fail("solver.sph.pressure_solver",
+               fmt::format("\"divergence_free\" holds every particle at its rest density, but bodies[{}] has "
+                           "bubbles (a gas pressure law): use \"weakly_compressible\"",
+                           i));
   // About 1.5 kB a particle with its neighbour lists (about 40 pairs of index,
   // distance and kernel values) and per-step scratch.
   double points = 0;

@@ -76,9 +76,9 @@ class MpmSolver final : public Solver {
   Real total_co2() const;          // mol
   Real total_heat_energy() const;  // Σ m c θ, J (θ in °C)
   std::vector<std::pair<std::string, Real>> frame_quantities() const override;
-  SolveIterations last_solve_iterations() const override {
+  StepSolves last_solve_iterations() const override {
     if (implicit_heat_.iterations < 0) return {};
-    return {"implicit heat", implicit_heat_.iterations};
+    return {SolveIterations{"implicit heat", implicit_heat_.iterations}};
   }
 
  private:

@@ -79,6 +79,12 @@ struct AdaptiveSmoothing {
   Real min_ratio = 0.8, max_ratio = 1.5;  // h_i / h0 limits
 };
 
+// weakly_compressible: Tait pressure from the density (Eq 3.17), the step
+// bounded by the speed of sound. divergence_free: DFSPH (Bender & Koschier
+// 2015, 2017): pressure solved for each step so that the density stays at rest
+// and the velocity field divergence-free; the step is bounded by the flow.
+enum class PressureSolver { weakly_compressible, divergence_free };
+
 struct Settings {
   Real spacing = 0.01;         // initial particle spacing s, m
   Real smoothing_ratio = 2.0;  // support h = ratio · s
@@ -111,6 +117,10 @@ struct Settings {
   // not bound the step; false: explicit (Eq 3.20–3.27 as the thesis has them).
   bool implicit_elasticity = false;
   AdaptiveSmoothing adaptive;
+  PressureSolver pressure_solver = PressureSolver::weakly_compressible;
+  Real density_tolerance = 1e-4;  // divergence_free: mean predicted (ρ − ρ0)/ρ0 at which the density solve stops
+  Real divergence_tolerance = 1e-3;  // and mean max_dt·(Dρ/Dt)/ρ0 at which the divergence solve stops
+  int pressure_max_iterations = 100;
   Real implicit_tolerance = 1e-6;  // relative residual of the implicit viscosity solve
   int implicit_max_iterations = 500;
   Real cfl = 0.4;

@@ -104,7 +104,8 @@ SphSolver::SphSolver(Setup setup)
       anchor_support_(particles_.add_scalar("neighbour_anchor_support", "m", false)),
       fill_radius_(particles_.add_scalar("open_space_radius", "m", false)),
       viscous_change_(particles_.add_vector("viscous_velocity_change", "m/s", false)),
-      air_facing_(particles_.add_int("air_facing", false)) {
+      air_facing_(particles_.add_int("air_facing", false)),
+      density_kappa_(particles_.add_scalar("density_solve_kappa", "m^5/(kg s^2)", false)) {
   const Settings& s = setup_.settings;
   if (setup_.materials.empty()) throw InputError("materials", "no materials defined");
   for (const Material& m : setup_.materials) {
@@ -169,6 +170,11 @@ SphSolver::SphSolver(Setup setup)
   t_xsph_ = timers_.add("xsph");
   t_viscosity_ = timers_.add("viscosity");
   t_heat_ = timers_.add("heat");
+  divergence_free_ = s.pressure_solver == PressureSolver::divergence_free;
+  if (divergence_free_) {
+    t_density_solve_ = timers_.add("density_solve");
+    t_divergence_solve_ = timers_.add("divergence_solve");
+  }
   for (const Material& m : setup_.materials) moist_ |= m.moisture.active();
   if (moist_) {
     t_water_ = timers_.add("water");
@@ -416,7 +422,11 @@ SphSolver::StepBounds SphSolver::time_step_bounds() const {
   const Real hs = 0.5 * std::min(h_, e.h);
   StepBounds bounds;
   bounds.add("max_dt", s.max_dt);
-  bounds.add("cfl", s.cfl * hs / (s.speed_of_sound + std::sqrt(e.v2)));
+  // Weakly compressible: sound crosses ħ; divergence-free: the flow does (at rest no bound).
+  if (!divergence_free_)
+    bounds.add("cfl", s.cfl * hs / (s.speed_of_sound + std::sqrt(e.v2)));
+  else if (e.v2 > 0)
+    bounds.add("cfl", s.cfl * hs / std::sqrt(e.v2));
   // Shear waves of the Maxwell stress travel at sqrt(μ_e/ρ).
   // (Solved implicitly, they bound nothing: backward Euler damps them instead.)
   if (e.shear > 0 && !implicit_elasticity_) bounds.add("elastic", s.cfl * hs / std::sqrt(e.shear));
@@ -477,7 +487,12 @@ void SphSolver::step(Real dt) {
   if (!(dt > 0) || !std::isfinite(dt))
     throw SimulationError(fmt::format("SPH step {}: invalid time step {}", steps_, dt));
   update_wall_poses(time_ + dt);
-  phase_kick(dt);
+  if (divergence_free_) {
+    phase_kick(dt);  // symplectic Euler: the forces without pressure, at x(t)
+    phase_density_solve(dt);
+  } else {
+    phase_kick(0.5 * dt);  // leap-frog
+  }
   phase_drift(dt);
   phase_collide();
   phase_neighbours();
@@ -485,8 +500,9 @@ void SphSolver::step(Real dt) {
   phase_surface();
   phase_stress(dt);
   phase_pressure();
+  if (divergence_free_) phase_divergence_solve(dt);
   phase_forces();
-  phase_kick(dt);
+  if (!divergence_free_) phase_kick(0.5 * dt);
   phase_xsph(dt);
   phase_viscosity(dt);
   phase_stress_increment();

@@ -10,6 +10,14 @@
 //   surface   colour gradient, surface particles, areas   (3.1.8, Eq 3.28, 3.43)
 //   stress    Maxwell viscoelastic stress update           (Eq 3.20–3.27)
 //   pressure  Tait, bubbles, risen Tait                    (Eq 3.17, 3.48–3.52)
+// With the divergence-free pressure (DFSPH, Bender & Koschier 2017) the step is
+//   accelerate v += dt a (the forces without pressure)
+//   density solve  pressure that brings the predicted density to rest
+//   drift, collide, neighbours, density, surface, stress as above
+//   pressure  the solves' factors (no pressure force from the density)
+//   divergence solve  pressure that makes Dρ/Dt vanish
+//   forces    as above without pressure, for the next step
+//   xsph, viscosity, heat, ... as above
 //   forces    pressure, stress divergence, viscosity,
 //             artificial viscosity, surface tension,
 //             gravity                                      (Eq 3.18, 2.18, 3.19, 3.35–3.41, 3.28–3.30)
@@ -91,10 +99,22 @@ class SphSolver final : public Solver {
   bool implicit_viscosity() const { return implicit_viscosity_; }
   bool implicit_elasticity() const { return implicit_elasticity_; }
   int last_viscosity_iterations() const { return viscosity_iterations_; }
-  SolveIterations last_solve_iterations() const override {
-    if (!implicit_viscosity_) return {};
-    return {"implicit viscosity", viscosity_iterations_};
+  StepSolves last_solve_iterations() const override {
+    StepSolves solves{};
+    std::size_t k = 0;
+    if (implicit_viscosity_) solves[k++] = {"implicit viscosity", viscosity_iterations_};
+    if (divergence_free_) {
+      solves[k++] = {"density solve", density_iterations_};
+      solves[k++] = {"divergence solve", divergence_iterations_};
+    }
+    return solves;
   }
+  bool divergence_free() const { return divergence_free_; }
+  // The last step's pressure solves (divergence_free): iterations and the mean error each stopped at.
+  int last_density_iterations() const { return density_iterations_; }
+  int last_divergence_iterations() const { return divergence_iterations_; }
+  Real last_density_error() const { return density_error_; }
+  Real last_divergence_error() const { return divergence_error_; }
   // Heat that entered through the surface (air and colliders) since the start, J.
   Real exchanged_heat() const { return exchanged_heat_; }
   // Viscoelastic stress of particle i (symmetric, Pa).
@@ -124,7 +144,16 @@ class SphSolver final : public Solver {
   void phase_pressure();
   void phase_forces();
   void compute_wall_drag();
-  void phase_kick(Real dt);
+  void phase_kick(Real kick);  // v += kick · a
+  // Divergence-free pressure (phases/pressure_solve.cpp).
+  void update_pressure_factors();  // 1/D_i and the walls' terms at the current positions
+  void phase_density_solve(Real dt);
+  void phase_divergence_solve(Real dt);
+  // Jacobi iterations on κ: density (predicted density to rest) or divergence (Dρ/Dt to zero).
+  // Adds its κ to kappa_total (the density solve's starts as the last step's).
+  int solve_pressure(Real dt, bool density, Real tolerance, std::vector<Real>& kappa_total, Real& error);
+  void apply_pressure(Real dt, const std::vector<Real>& kappa);  // v += dt a_i for κ
+  static constexpr Real kRelaxation = 0.5;                       // Jacobi's ω (IISPH's, Ihmsen et al. 2014)
   void phase_drift(Real dt);
   void phase_collide();
   void phase_xsph(Real dt);
@@ -233,6 +262,15 @@ class SphSolver final : public Solver {
   Real colour_share_ = 1;             // V |∇C| / s² on a flat lattice face (kernels.hpp): exchange areas
   ColliderTemperatures wall_temperatures_, mesh_temperatures_;  // at this step's bake time (heat phase)
   int viscosity_iterations_ = 0;
+  // Divergence-free pressure (phases/pressure_solve.cpp).
+  bool divergence_free_ = false;
+  int density_iterations_ = 0, divergence_iterations_ = 0;
+  Real density_error_ = 0, divergence_error_ = 0;
+  std::vector<Real> pressure_factor_;     // 1/D_i, D_i = (S_i + b_i G_i)·(S_i + G_i) + m_i Σ m_j |∇W_ij|²
+  std::vector<Vec3> wall_mass_gradient_;  // G_i = ρ0 ∇f_i, the walls' Σ_b m_b ∇W_ib (wall half-space)
+  std::vector<Real> wall_mirror_;         // b_i = 1 + ρ_i²/ρ0²: the wall's pressure mirrored at the particle's
+  std::vector<Real> kappa_;               // κ = p/ρ²: an iteration's error, then its change
+  std::vector<Real> divergence_kappa_;    // the divergence solve's κ (from zero each step)
   Real exchanged_heat_ = 0.0;
   // Moisture (physics/water.hpp): on when a material carries water.
   bool moist_ = false;
@@ -294,11 +332,15 @@ class SphSolver final : public Solver {
   // collider); in the registry, so the next step's pressure phase (vented
   // bubbles) reads it for the same particle after a sort or a restore.
   std::vector<std::int32_t>& air_facing_;
+  // Divergence-free pressure: the density solve's κ = p/ρ² of the last
+  // step, its next warm start (in the registry: it follows sorts and checkpoints).
+  std::vector<Real>& density_kappa_;
   std::vector<std::uint32_t> order_;
   // Per-step scratch, valid only within the phases that fill them (not in
   // the registry, so sorting does not move them).
   std::vector<Vec3> x_prev_;            // position before the drift, for mesh collisions
   std::vector<Vec3> dv_;                // XSPH correction
+  std::vector<Real> compounded_eps_;    // XSPH's ε over a step longer than dt_ref
   std::vector<Real> dtemp_;             // temperature change of the heat phase
   std::vector<Real> p_over_rho2_;       // P/ρ², per particle (pressure phase)
   std::vector<Real> volume_;            // m/ρ, per particle (pressure phase)
@@ -336,7 +378,8 @@ class SphSolver final : public Solver {
 
   PhaseTimers timers_;
   int t_kick_, t_drift_, t_collide_, t_sort_, t_neigh_, t_density_, t_surface_, t_stress_, t_pressure_, t_forces_,
-      t_xsph_, t_viscosity_, t_heat_, t_water_ = 0, t_browning_, t_properties_, t_smoothing_, t_check_;
+      t_xsph_, t_viscosity_, t_heat_, t_water_ = 0, t_browning_, t_properties_, t_smoothing_, t_check_,
+                                      t_density_solve_ = 0, t_divergence_solve_ = 0;
   Real time_ = 0.0;
   long steps_ = 0;
   const char* dt_bound_ = "cfl";

@@ -1023,3 +1023,25 @@ TEST(Scene, SphImplicitElasticityNeedsTheImplicitViscositySolve) {
   doc["solver"]["sph"]["elasticity_solver"] = "sometimes";
   expect_error(doc, {"solver.sph.elasticity_solver"});
 }
+
+TEST(Scene, SphDivergenceFreePressureRefusesBubblesAndReadsItsTolerances) {
+  json doc = base_scene();
+  EXPECT_EQ(parse_scene(doc.dump(), "scene.json", ".").sph.settings.pressure_solver,
+            sph::PressureSolver::weakly_compressible);
+  doc["solver"]["sph"]["pressure_solver"] = "divergence_free";
+  doc["solver"]["sph"]["pressure_solve"] = {{"density_tolerance", 2e-4}, {"max_iterations", 40}};
+  const Scene s = parse_scene(doc.dump(), "scene.json", ".");
+  EXPECT_EQ(s.sph.settings.pressure_solver, sph::PressureSolver::divergence_free);
+  EXPECT_DOUBLE_EQ(s.sph.settings.density_tolerance, 2e-4);
+  EXPECT_DOUBLE_EQ(s.sph.settings.divergence_tolerance, 1e-3);
+  EXPECT_EQ(s.sph.settings.pressure_max_iterations, 40);
+  // A gas law's bubbles are not held at a rest density.
+  doc["bodies"][0]["bubbles"] = {{"fraction", 0.2}};
+  expect_error(doc, {"scene.json: solver.sph.pressure_solver", "bodies[0]", "bubbles", "weakly_compressible"});
+  doc["bodies"][0].erase("bubbles");
+  doc["solver"]["sph"]["pressure_solve"]["density_tolerance"] = 0;
+  expect_error(doc, {"solver.sph.pressure_solve.density_tolerance"});
+  doc["solver"]["sph"]["pressure_solve"]["density_tolerance"] = 1e-3;
+  doc["solver"]["sph"]["pressure_solver"] = "iisph";
+  expect_error(doc, {"solver.sph.pressure_solver"});
+}

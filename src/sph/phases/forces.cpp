@@ -51,7 +51,8 @@ void SphSolver::phase_forces() {
   bool any_tension = false;
   for (const Material& mat : setup_.materials) any_tension |= mat.surface_tension != 0.0;
   const Vec3 g = setup_.gravity;
-  const bool wall_corr = s.wall_density_correction;
+  // The divergence-free solves give the walls' pressure themselves.
+  const bool wall_corr = s.wall_density_correction && !divergence_free_;
 
   const Real* p_rho2 = p_over_rho2_.data();
   const Real* vol = volume_.data();

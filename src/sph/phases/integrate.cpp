@@ -1,18 +1,18 @@
-// Phases kick and drift (leap-frog, thesis 3.4) and the XSPH velocity
+// Phases kick and drift (leap-frog, thesis 3.4; symplectic Euler with the divergence-free pressure) and the XSPH velocity
 // correction (Eq 3.34).
 #include "sph/solver.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include "core/parallel.hpp"
 
 namespace bakesim::sph {
 
-void SphSolver::phase_kick(Real dt) {
+void SphSolver::phase_kick(Real kick) {
   ScopedPhase t(timers_, t_kick_);
-  const Real half = 0.5 * dt;
   parallel_for(
-      x_.size(), [&](std::size_t i) { v_[i] += half * a_[i]; }, 4096);
+      x_.size(), [&](std::size_t i) { v_[i] += kick * a_[i]; }, 4096);
 }
 
 void SphSolver::phase_drift(Real dt) {
@@ -37,7 +37,19 @@ void SphSolver::phase_xsph(Real dt) {
   for (const Material& m : setup_.materials) any |= !is_constant(m.xsph) || std::get<ConstantCurve>(m.xsph).value > 0;
   if (!any) return;
   const Vec3* v = v_.data();
-  const Real share = std::min<Real>(1, dt / rest_cfl_step_);
+  // A step longer than dt_ref (the divergence-free pressure's) compounds the
+  // reference steps it spans: ε becomes 1 − (1 − ε)^(dt/dt_ref), the
+  // smoothing per second of the weakly compressible run.
+  const Real steps = dt / rest_cfl_step_;
+  const Real share = std::min<Real>(1, steps);
+  const Real* eps = eps_.data();
+  if (steps > 1) {
+    compounded_eps_.resize(x_.size());
+    parallel_for(
+        x_.size(),
+        [&](std::size_t i) { compounded_eps_[i] = 1 - std::pow(1 - std::clamp<Real>(eps_[i], 0, 1), steps); }, 4096);
+    eps = compounded_eps_.data();
+  }
   parallel_for(x_.size(), [&](std::size_t i) {
     Vec3 corr = Vec3::Zero();
     const Vec3 vi = v[i];
@@ -47,7 +59,7 @@ void SphSolver::phase_xsph(Real dt) {
     for (std::uint32_t k = 0; k < count; ++k) {
       const std::uint32_t j = nb[k];
       const Real w = pw[k];
-      corr += (0.5 * (eps_[i] + eps_[j]) * 2.0 * m_[j] / (rho_[i] + rho_[j]) * w) * (v[j] - vi);
+      corr += (0.5 * (eps[i] + eps[j]) * 2.0 * m_[j] / (rho_[i] + rho_[j]) * w) * (v[j] - vi);
     }
     dv_[i] = share * corr;
   });

@@ -11,6 +11,8 @@ namespace bakesim::sph {
 // `vent_at_surface` a rising bubble that faced the oven air in the last heat
 // phase (air_facing_, a surface particle not against a heated collider) is
 // open to it and presses by Tait like dough: its gas escapes.
+// With the divergence-free pressure the force phase has no pressure (the
+// solves apply it) and this phase prepares the solves' factors.
 void SphSolver::phase_pressure() {
   ScopedPhase t(timers_, t_pressure_);
   const Real gamma = setup_.settings.gamma;
@@ -19,6 +21,18 @@ void SphSolver::phase_pressure() {
   p_over_rho2_.resize(x_.size());
   volume_.resize(x_.size());
   if (elastic) stress_rho2_.resize(x_.size());
+  if (divergence_free_) {
+    parallel_for(
+        x_.size(),
+        [&](std::size_t i) {
+          p_over_rho2_[i] = 0;
+          volume_[i] = m_[i] / rho_[i];
+          if (elastic) stress_rho2_[i] = stress(i) * (1.0 / (rho_[i] * rho_[i]));
+        },
+        1024);
+    update_pressure_factors();
+    return;
+  }
   parallel_for(
       x_.size(),
       [&](std::size_t i) {
