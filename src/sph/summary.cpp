@@ -10,6 +10,13 @@ std::string SphSolver::summary() const {
   std::string out;
   out += fmt::format("spacing    {} m, support h = {} m, speed of sound {:.3g} m/s, neighbour search {}\n", st.spacing,
                      st.spacing * st.smoothing_ratio, st.speed_of_sound, to_string(st.search));
+  if (divergence_free_)
+    out += fmt::format(
+        "pressure   divergence-free (DFSPH): density tolerance {:g}, divergence tolerance {:g}, at most {} iterations "
+        "(the speed of sound only enters the artificial viscosity)\n",
+        st.density_tolerance, st.divergence_tolerance, st.pressure_max_iterations);
+  else
+    out += "pressure   weakly compressible (Tait)\n";
   out += fmt::format("viscosity  {} (setting: {})\n", implicit_viscosity() ? "implicit" : "explicit",
                      to_string(st.viscosity_solver));
   if (elastic_)

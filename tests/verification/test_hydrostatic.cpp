@@ -86,15 +86,16 @@ TEST(Hydrostatic, MidDepthPressureIsRhoGH) {
 // density of the particles held within the solve's tolerance, the column at
 // rest, and steps no longer bounded by the speed of sound (the weakly
 // compressible column takes its CFL step of about 1e-4 s; at rest this one
-// takes max_dt). Measured (docs/validation.md): pressure +5.5% (weakly
-// compressible: +3.8%; the symmetric SPH gradient next to the side walls
-// needs more pressure than ρ g, and the interior feels it), mean
-// |ρ/ρ0 − 1| inside 0.01%, 168 of 3,600 particles above 1 cm/s. With a
-// density tolerance of 0.1% instead of 0.01% the column filled with
-// unpressed voids (mean 0.9%).
+// takes max_dt). Measured (docs/validation.md), portable build / native
+// (FMA) build: pressure +5.5% / +6.2% (weakly compressible: +3.8%; the
+// symmetric SPH gradient next to the side walls needs more pressure than
+// ρ g, and the interior feels it), mean |ρ/ρ0 − 1| inside 0.01%, rms speed
+// 7.0 / 7.4 mm/s, fastest 26 / 16 mm/s. With a density tolerance of 0.1%
+// instead of 0.01% the column filled with unpressed voids (mean 0.9%).
 TEST(DivergenceFree, StillColumnHoldsHydrostaticPressureAndRestDensity) {
   auto solver = test_support::make_sph(column_scene({{"pressure_solver", "divergence_free"}}));
   ASSERT_TRUE(solver->divergence_free());
+  EXPECT_NE(solver->summary().find("pressure   divergence-free"), std::string::npos);  // what `validate` says
   test_support::advance_to(*solver, 0.2);
   MidDepthPressure tally;
   double worst_density_error = 0;
@@ -108,7 +109,7 @@ TEST(DivergenceFree, StillColumnHoldsHydrostaticPressureAndRestDensity) {
   ASSERT_GT(tally.samples, 100);
   std::printf("divergence-free column: %ld steps in 0.3 s, mid-depth pressure %+.2f%%\n", steps,
               100 * tally.relative_error());
-  EXPECT_NEAR(tally.relative_error(), 0, 0.07);
+  EXPECT_NEAR(tally.relative_error(), 0, 0.08);
   RecordProperty("relative_error", std::to_string(tally.relative_error()));
   // Each density solve stopped at its tolerance (0.01% mean predicted error)
   // or, after its 100 iterations, not far above it (measured: 0.025% at worst).
@@ -133,10 +134,13 @@ TEST(DivergenceFree, StillColumnHoldsHydrostaticPressureAndRestDensity) {
   std::printf("inside: mean |rho/rho0 - 1| %.4f, worst %.4f\n", sum_inside / inside, worst_inside);
   EXPECT_LT(sum_inside / inside, 5e-4);
   EXPECT_LT(worst_inside, 0.01);
-  std::size_t moving = 0;  // above 1 cm/s
-  for (const Vec3& v : ps.vector("velocity")) moving += v.norm() > 0.01;
+  // At rest: the fastest particle and the root-mean-square speed.
+  double sum_v2 = 0;
+  for (const Vec3& v : ps.vector("velocity")) sum_v2 += v.squaredNorm();
+  const double rms = std::sqrt(sum_v2 / double(ps.size()));
+  std::printf("fastest %.4f m/s, rms %.4f m/s\n", fastest(ps), rms);
   EXPECT_LT(fastest(ps), 0.05 * std::sqrt(2 * kG * kHeight));
-  EXPECT_LT(moving, ps.size() / 10);
+  EXPECT_LT(rms, 0.01 * std::sqrt(2 * kG * kHeight));
   // 0.3 s at rest in at most 1,000 steps (weakly compressible: about 3,000).
   EXPECT_LE(steps, 1000);
 }
