@@ -10,14 +10,6 @@
 //   surface   colour gradient, surface particles, areas   (3.1.8, Eq 3.28, 3.43)
 //   stress    Maxwell viscoelastic stress update           (Eq 3.20–3.27)
 //   pressure  Tait, bubbles, risen Tait                    (Eq 3.17, 3.48–3.52)
-// With the divergence-free pressure (DFSPH, Bender & Koschier 2017) the step is
-//   accelerate v += dt a (the forces without pressure)
-//   density solve  pressure that brings the predicted density to rest
-//   drift, collide, neighbours, density, surface, stress as above
-//   pressure  the solves' factors (no pressure force from the density)
-//   divergence solve  pressure that makes Dρ/Dt vanish
-//   forces    as above without pressure, for the next step
-//   xsph, viscosity, heat, ... as above
 //   forces    pressure, stress divergence, viscosity,
 //             artificial viscosity, surface tension,
 //             gravity                                      (Eq 3.18, 2.18, 3.19, 3.35–3.41, 3.28–3.30)
@@ -28,6 +20,14 @@
 //   properties temperature-dependent μ, μ_e, λ, ε; rise
 //             state of bubble particles                    (Eq 4.1–4.4, 3.52)
 //   smoothing per-particle h for the next step (optional)  (Eq 3.54–3.56)
+// With the divergence-free pressure (DFSPH, Bender & Koschier 2017) the step is
+//   kick      v += dt a (the forces without pressure)
+//   density solve  pressure that brings the predicted density to rest
+//   drift, collide, sort, neighbours, density, surface, stress as above
+//   pressure  the solves' factors (no pressure force from the density)
+//   divergence solve  pressure that makes Dρ/Dt vanish
+//   forces    as above without pressure, for the next step
+//   xsph, viscosity, heat, ... as above
 // With adaptive smoothing every pair uses h_ij = (h_i + h_j)/2 (Eq 3.56).
 #include <array>
 #include <cassert>
@@ -110,11 +110,10 @@ class SphSolver final : public Solver {
     return solves;
   }
   bool divergence_free() const { return divergence_free_; }
-  // The last step's pressure solves (divergence_free): iterations and the mean error each stopped at.
+  // The last step's pressure solves (divergence_free): iterations, and the mean error the density solve stopped at.
   int last_density_iterations() const { return density_iterations_; }
   int last_divergence_iterations() const { return divergence_iterations_; }
   Real last_density_error() const { return density_error_; }
-  Real last_divergence_error() const { return divergence_error_; }
   // Heat that entered through the surface (air and colliders) since the start, J.
   Real exchanged_heat() const { return exchanged_heat_; }
   // Viscoelastic stress of particle i (symmetric, Pa).
@@ -151,7 +150,19 @@ class SphSolver final : public Solver {
   void phase_divergence_solve(Real dt);
   // Jacobi iterations on κ: density (predicted density to rest) or divergence (Dρ/Dt to zero).
   // Adds its κ to kappa_total (the density solve's starts as the last step's).
-  int solve_pressure(Real dt, bool density, Real tolerance, std::vector<Real>& kappa_total, Real& error);
+  struct PressureSolve {
+    int iterations = 0;
+    Real error = 0;  // the mean error it stopped at
+  };
+  PressureSolve solve_pressure(Real dt, bool density, Real tolerance, std::vector<Real>& kappa_total);
+  // Calls fn(j, ∇_i W_ij) for each neighbour j of particle i (this step's lists and kernel slopes).
+  template <class Fn>
+  void for_each_kernel_gradient(std::size_t i, Fn&& fn) const {
+    const std::uint32_t* nb = lists_.begin(i);
+    const std::uint32_t count = lists_.count(i);
+    const float* pd = pair_dwr_.data() + i * lists_.stride();
+    for (std::uint32_t k = 0; k < count; ++k) fn(nb[k], Vec3(Real(pd[k]) * pair_offset(i, nb[k])));
+  }
   void apply_pressure(Real dt, const std::vector<Real>& kappa);  // v += dt a_i for κ
   static constexpr Real kRelaxation = 0.5;                       // Jacobi's ω (IISPH's, Ihmsen et al. 2014)
   void phase_drift(Real dt);
@@ -265,7 +276,7 @@ class SphSolver final : public Solver {
   // Divergence-free pressure (phases/pressure_solve.cpp).
   bool divergence_free_ = false;
   int density_iterations_ = 0, divergence_iterations_ = 0;
-  Real density_error_ = 0, divergence_error_ = 0;
+  Real density_error_ = 0;
   std::vector<Real> pressure_factor_;     // 1/D_i, D_i = (S_i + b_i G_i)·(S_i + G_i) + m_i Σ m_j |∇W_ij|²
   std::vector<Vec3> wall_mass_gradient_;  // G_i = ρ0 ∇f_i, the walls' Σ_b m_b ∇W_ib (wall half-space)
   std::vector<Real> wall_mirror_;         // b_i = 1 + ρ_i²/ρ0²: the wall's pressure mirrored at the particle's

@@ -90,7 +90,7 @@ TEST(Hydrostatic, MidDepthPressureIsRhoGH) {
 // (FMA) build: pressure +5.5% / +6.2% (weakly compressible: +3.8%; the
 // symmetric SPH gradient next to the side walls needs more pressure than
 // ρ g, and the interior feels it), mean |ρ/ρ0 − 1| inside 0.01%, rms speed
-// 7.0 / 7.4 mm/s, fastest 26 / 16 mm/s. With a density tolerance of 0.1%
+// 7.1 / 7.4 mm/s, fastest 20 / 16 mm/s. With a density tolerance of 0.1%
 // instead of 0.01% the column filled with unpressed voids (mean 0.9%).
 TEST(DivergenceFree, StillColumnHoldsHydrostaticPressureAndRestDensity) {
   auto solver = test_support::make_sph(column_scene({{"pressure_solver", "divergence_free"}}));

@@ -21,21 +21,16 @@ void SphSolver::phase_pressure() {
   p_over_rho2_.resize(x_.size());
   volume_.resize(x_.size());
   if (elastic) stress_rho2_.resize(x_.size());
-  if (divergence_free_) {
-    parallel_for(
-        x_.size(),
-        [&](std::size_t i) {
-          p_over_rho2_[i] = 0;
-          volume_[i] = m_[i] / rho_[i];
-          if (elastic) stress_rho2_[i] = stress(i) * (1.0 / (rho_[i] * rho_[i]));
-        },
-        1024);
-    update_pressure_factors();
-    return;
-  }
   parallel_for(
       x_.size(),
       [&](std::size_t i) {
+        const Real inv_rho2 = 1.0 / (rho_[i] * rho_[i]);
+        volume_[i] = m_[i] / rho_[i];
+        if (elastic) stress_rho2_[i] = stress(i) * inv_rho2;
+        if (divergence_free_) {  // p_ is the density solve's
+          p_over_rho2_[i] = 0;
+          return;
+        }
         const int mat = material_[i];
         const Real rho0 = setup_.materials[mat].rest_density;
         Real p;
@@ -52,12 +47,10 @@ void SphSolver::phase_pressure() {
         }
         if (clamp && p < 0) p = 0;
         p_[i] = p;
-        const Real inv_rho2 = 1.0 / (rho_[i] * rho_[i]);
         p_over_rho2_[i] = p * inv_rho2;
-        volume_[i] = m_[i] / rho_[i];
-        if (elastic) stress_rho2_[i] = stress(i) * inv_rho2;
       },
       1024);
+  if (divergence_free_) update_pressure_factors();
 }
 
 }  // namespace bakesim::sph

@@ -34,17 +34,12 @@ void SphSolver::update_pressure_factors() {
   const bool walls = setup_.settings.wall_density_correction;
   const Real* m = m_.data();
   parallel_for(n, [&](std::size_t i) {
-    const std::uint32_t* nb = lists_.begin(i);
-    const std::uint32_t count = lists_.count(i);
-    const float* pd = pair_dwr_.data() + i * lists_.stride();
     Vec3 sum = Vec3::Zero();
     Real squares = 0;
-    for (std::uint32_t k = 0; k < count; ++k) {
-      const std::uint32_t j = nb[k];
-      const Vec3 grad = Real(pd[k]) * pair_offset(i, j);
+    for_each_kernel_gradient(i, [&](std::uint32_t j, const Vec3& grad) {
       sum += m[j] * grad;
       squares += m[j] * grad.squaredNorm();
-    }
+    });
     const Real rho0 = setup_.materials[material_[i]].rest_density;
     Vec3 g = Vec3::Zero();
     if (walls && wall_share(x_[i], &g) > 0) g *= rho0;
@@ -60,20 +55,15 @@ void SphSolver::update_pressure_factors() {
 void SphSolver::apply_pressure(Real dt, const std::vector<Real>& kappa) {
   const Real* m = m_.data();
   parallel_for(x_.size(), [&](std::size_t i) {
-    const std::uint32_t* nb = lists_.begin(i);
-    const std::uint32_t count = lists_.count(i);
-    const float* pd = pair_dwr_.data() + i * lists_.stride();
     const Real ki = kappa[i];
     Vec3 acc = -(ki * wall_mirror_[i]) * wall_mass_gradient_[i];
-    for (std::uint32_t k = 0; k < count; ++k) {
-      const std::uint32_t j = nb[k];
-      acc -= (m[j] * (ki + kappa[j]) * Real(pd[k])) * pair_offset(i, j);
-    }
+    for_each_kernel_gradient(i, [&](std::uint32_t j, const Vec3& grad) { acc -= (m[j] * (ki + kappa[j])) * grad; });
     v_[i] += dt * acc;
   });
 }
 
-int SphSolver::solve_pressure(Real dt, bool density, Real tolerance, std::vector<Real>& kappa_total, Real& error) {
+SphSolver::PressureSolve SphSolver::solve_pressure(Real dt, bool density, Real tolerance,
+                                                   std::vector<Real>& kappa_total) {
   const std::size_t n = x_.size();
   kappa_.resize(n);
   const Real* m = m_.data();
@@ -85,6 +75,7 @@ int SphSolver::solve_pressure(Real dt, bool density, Real tolerance, std::vector
   // The density's drift from rest is taken back over max_dt, not within a
   // shorter step (Baumgarte): its velocity would grow as 1/dt.
   const Real drift_share = std::min<Real>(1, dt / error_step);
+  const Real measure = density ? 1.0 : error_step / dt;
   // The density solve starts from last step's pressure, which holds a column
   // still; the divergence solve from none (last step's correction, applied
   // again, would be noise the iterations must take out).
@@ -92,29 +83,22 @@ int SphSolver::solve_pressure(Real dt, bool density, Real tolerance, std::vector
     apply_pressure(dt, kappa_total);
   else
     std::fill(kappa_total.begin(), kappa_total.end(), 0.0);
-  int iterations = 0;
-  for (;; ++iterations) {
+  PressureSolve result;
+  for (;; ++result.iterations) {
     // The error e_i the current velocities leave. It counts on the expanded
     // side only under pressure (its κ is then too large); elsewhere (a free
     // surface, an unpressed particle) only compression counts.
     const Real sum = deterministic_sum(n, [&](std::size_t i) {
-      const std::uint32_t* nb = lists_.begin(i);
-      const std::uint32_t count = lists_.count(i);
-      const float* pd = pair_dwr_.data() + i * lists_.stride();
       const Vec3 vi = v_[i];
       Real rate = wall_mass_gradient_[i].dot(vi);
-      for (std::uint32_t k = 0; k < count; ++k) {
-        const std::uint32_t j = nb[k];
-        rate += m[j] * (Real(pd[k]) * pair_offset(i, j)).dot(vi - v_[j]);
-      }
+      for_each_kernel_gradient(i, [&](std::uint32_t j, const Vec3& grad) { rate += m[j] * grad.dot(vi - v_[j]); });
       const Real rho0 = setup_.materials[material_[i]].rest_density;
       const Real e = density ? drift_share * (rho_[i] - rho0) + dt * rate : dt * rate;
       kappa_[i] = e;
-      const Real measure = density ? 1.0 : error_step / dt;
-      return measure * (kappa_total[i] > 0 ? std::abs(e) : std::max<Real>(e, 0)) / rho0;
+      return (kappa_total[i] > 0 ? std::abs(e) : std::max<Real>(e, 0)) / rho0;
     });
-    error = sum / Real(std::max<std::size_t>(n, 1));
-    if (error <= tolerance || iterations >= most) break;
+    result.error = measure * sum / Real(std::max<std::size_t>(n, 1));
+    if (result.error <= tolerance || result.iterations >= most) break;
     // Relaxed Jacobi, projected on κ ≥ 0: the pressure never pulls.
     parallel_for(
         n,
@@ -126,7 +110,7 @@ int SphSolver::solve_pressure(Real dt, bool density, Real tolerance, std::vector
         4096);
     apply_pressure(dt, kappa_);
   }
-  return iterations;
+  return result;
 }
 
 // Before the drift: the pressure that brings ρ_i + dt Dρ_i/Dt to rest, with
@@ -136,7 +120,9 @@ void SphSolver::phase_density_solve(Real dt) {
   ScopedPhase t(timers_, t_density_solve_);
   const std::size_t n = x_.size();
   if (pressure_factor_.size() != n) update_pressure_factors();
-  density_iterations_ = solve_pressure(dt, true, setup_.settings.density_tolerance, density_kappa_, density_error_);
+  const PressureSolve solve = solve_pressure(dt, true, setup_.settings.density_tolerance, density_kappa_);
+  density_iterations_ = solve.iterations;
+  density_error_ = solve.error;
   parallel_for(
       n, [&](std::size_t i) { p_[i] = density_kappa_[i] * rho_[i] * rho_[i]; }, 4096);
 }
@@ -147,7 +133,7 @@ void SphSolver::phase_divergence_solve(Real dt) {
   ScopedPhase t(timers_, t_divergence_solve_);
   divergence_kappa_.resize(x_.size());
   divergence_iterations_ =
-      solve_pressure(dt, false, setup_.settings.divergence_tolerance, divergence_kappa_, divergence_error_);
+      solve_pressure(dt, false, setup_.settings.divergence_tolerance, divergence_kappa_).iterations;
 }
 
 }  // namespace bakesim::sph
