@@ -170,6 +170,11 @@ class SphSolver final : public Solver {
   void phase_xsph(Real dt);
   void phase_viscosity(Real dt);
   void solve_stress_viscosity(Real dt, const std::vector<Real>& diag);  // phase_viscosity, stress form
+  // The walls bodies rest on in this step's viscous solve (support_normal_, …); returns how many particles.
+  std::size_t find_wall_supports();
+  void remove_supported_normal(std::size_t i, Vec3& value) const;  // the free directions of particle i
+  template <bool Coupled, class Apply>
+  void solve_supported(Apply& apply, const std::vector<Real>& diag, const Vec3& b_norm2, const char* what);
   void start_viscous_guess();         // v ← v* + the last solve's change (viscosity_start_ ← v*)
   void keep_viscous_change();         // viscous_change_ ← v − v*
   Vec3 build_viscosity_rhs(Real dt);  // the implicit viscosity's M v*; returns its |b|² per component
@@ -382,6 +387,12 @@ class SphSolver final : public Solver {
   std::vector<Mat3> correction_;               // stress-form viscosity: C_i = M_i^{−T}
   std::vector<Mat3> stress_times_correction_;  // S_i C_i of the current iterate
   std::vector<Vec3> pair_volume_gradient_;     // stress form: V_j ∇_i W_ij, layout of lists_
+  // Per particle: the normal of the wall it rests on (zero where none) and the wall's speed along it.
+  std::vector<Vec3> support_normal_;
+  std::vector<Real> support_velocity_;
+  std::vector<Real> support_push_;  // b·n of a supported particle before the filter (its reaction's reference)
+  std::size_t supported_ = 0;       // particles with a support this solve
+  bool filter_supports_ = true;     // false while the reactions are measured
   // Per neighbour pair, in the layout of lists_ (computed by the density
   // phase, valid until positions change): W(r) and W'(r)/r.
   std::vector<float> pair_w_, pair_dwr_;

@@ -236,3 +236,61 @@ TEST(StressViscosity, ARigidlySpinningViscousBallKeepsItsSpin) {
   EXPECT_GT(stress.angular_velocity, 0.99);
   EXPECT_LT(laplacian.angular_momentum, 0.5);  // the defect the stress form removes
 }
+
+// A wall the body rests on holds it inside the viscous solve (the particles
+// touching it keep the wall's normal velocity; docs/physics.md, "Implicit
+// viscosity"). A Newtonian column as tall as it is wide, μ = 28,300 Pa·s (the
+// yield-stress slump's at-rest viscosity), on the free-slip floor: under its
+// own weight it should shorten by ρgH²t/(6μ) (uniaxial slices; 0.0006 H in
+// 0.1 s) plus the weakly compressible column's hydrostatic compression
+// (ρgH/(2ρc²), 0.0021 H at c = 15.3 m/s): 0.0027 H. Left to the pressure
+// alone the floor's reaction reached the body through the pressure's
+// compression only, a step late, and the column sank at 1.5 cm/s as a
+// whole: 0.0119 H (measured). With the support, 0.0035 H (measured: the
+// column also keeps losing volume, 0.7% in 0.1 s, which the estimate
+// leaves out). Ten particles across, stress-form viscosity.
+TEST(StressViscosity, AStiffColumnRestsOnItsFloor) {
+  json scene = sph_slump(10, 0.0, 28300.0, 0.0);
+  scene["solver"]["sph"]["viscosity_operator"] = "stress";
+  auto sph = test_support::make_sph(scene);
+  const double start = top(sph->particles());
+  test_support::advance_to(*sph, 0.1);
+  const double slump = (start - top(sph->particles())) / kHeight;
+  std::printf("stiff column: %.4f of its height in 0.1 s (estimate 0.0027)\n", slump);
+  EXPECT_GT(slump, 0.0);
+  EXPECT_LT(slump, 0.007);
+}
+
+// The wall pushes and never pulls: a viscous column on the floor whose upper
+// half is thrown upward (no gravity) leaves the floor whole, with the
+// momentum it was given. Its bottom particles start at rest on the floor, so
+// the support holds them until the solve's reaction there turns tensile and
+// lets them go; held, they would take momentum out of the column.
+TEST(StressViscosity, AWallLetsGoOfABodyMovingAway) {
+  json scene = sph_slump(10, 0.0, 28300.0, 0.0);
+  scene["solver"]["sph"]["viscosity_operator"] = "stress";
+  scene["gravity"] = {0, 0, 0};
+  auto sph = test_support::make_sph(scene);
+  auto& ps = sph->mutable_particles();
+  const auto& mass = ps.scalar("mass");
+  double momentum0 = 0;
+  for (std::size_t i = 0; i < ps.size(); ++i) {
+    if (ps.vector("position")[i].y() > 0.5 * kHeight) ps.vector("velocity")[i] = Vec3(0, 0.1, 0);
+    momentum0 += mass[i] * ps.vector("velocity")[i].y();
+  }
+  sph->refresh();
+  test_support::advance_to(*sph, 0.01);
+  double momentum = 0, lowest = 1e30;
+  for (std::size_t i = 0; i < ps.size(); ++i) {
+    momentum += mass[i] * ps.vector("velocity")[i].y();
+    lowest = std::min(lowest, ps.vector("position")[i].y());
+  }
+  double bottom_speed = 0;
+  int bottom = 0;
+  for (std::size_t i = 0; i < ps.size(); ++i)
+    if (ps.vector("position")[i].y() < lowest + 0.002) bottom_speed += ps.vector("velocity")[i].y(), ++bottom;
+  std::printf("momentum kept %.9f, lowest particle %.5f m (was 0.005), bottom layer rises at %.4f m/s\n",
+              momentum / momentum0, lowest, bottom_speed / bottom);
+  EXPECT_NEAR(momentum / momentum0, 1.0, 1e-6);
+  EXPECT_GT(lowest, 0.005 + 1e-4);  // held, the bottom layer stayed at 0.005 m and kept 0.77 of the momentum
+}

@@ -87,20 +87,18 @@ void SphSolver::phase_viscosity(Real dt) {
       Vec3 off = Vec3::Zero();
       for (std::uint32_t k = 0; k < count; ++k) off += Real(w[k]) * in[nb[k]];
       out[i] = diag[i] * vi - off;
+      remove_supported_normal(i, out[i]);
     });
   };
   const Vec3 b_norm2 = build_viscosity_rhs(dt);
-  const Real tol = setup_.settings.implicit_tolerance;
-  const Vec3 stop = (tol * tol) * b_norm2;
   start_viscous_guess();
-  const PcgResult<Vec3> result = solve_pcg<Vec3>(
-      n, apply, [](std::size_t) { return true; }, diag, viscosity_rhs_, v_, stop,
-      setup_.settings.implicit_max_iterations, viscosity_pcg_);
-  viscosity_iterations_ = result.iterations;
+  // The three components are three systems with the same matrix, unless a
+  // wall's support ties them together (its normal need not be an axis).
+  if (find_wall_supports() == 0)
+    solve_supported<false>(apply, diag, b_norm2, "implicit viscosity");
+  else
+    solve_supported<true>(apply, diag, Vec3::Constant(b_norm2.sum()), "implicit viscosity");
   keep_viscous_change();
-  require_acceptable(
-      result, b_norm2, [&] { return fmt::format("SPH step {} (t = {:.6g} s): implicit viscosity", steps_, time_); },
-      "solver.sph.implicit_viscosity.max_iterations");
 }
 
 // b = M v* (plus the no-slip walls' v_wall terms); the Laplacian solve starts
@@ -172,6 +170,7 @@ void SphSolver::solve_stress_viscosity(Real dt, const std::vector<Real>& diag) {
     m.computeInverseAndDetWithCheck(inverse, det, invertible);
     correction_[i] = invertible && det > 0.05 ? Mat3(inverse.transpose()) : Mat3::Identity();
   });
+  find_wall_supports();
   auto apply = [&](const std::vector<Vec3>& in, std::vector<Vec3>& out) {
     parallel_for(n, [&](std::size_t i) {
       const std::uint32_t* nb = lists_.begin(i);
@@ -194,25 +193,101 @@ void SphSolver::solve_stress_viscosity(Real dt, const std::vector<Real>& diag) {
         force += (stress_times_correction_[k] + stress_times_correction_[nb[q]]) * g[q];
       Vec3 acc = m_[k] * in[k] - dt * vk * force;
       if (no_slip_walls_) acc += (dt * mu[k] * vk * wall_drag_[k]) * in[k];
+      remove_supported_normal(k, acc);
       out[k] = acc;
     });
   };
   const Vec3 b_norm2 = Vec3::Constant(build_viscosity_rhs(dt).sum());  // one system: the components summed
-  const Real tol = setup_.settings.implicit_tolerance;
-  const Vec3 stop = (tol * tol) * b_norm2;
   // Started from v* (not warm): the stress form conserves angular momentum,
   // and a warm start's last change, stopped within the tolerance, would
   // leave the same small error every step (a spinning ball's change turns
   // with it), which adds up (3.5e-5 of L in StressViscosity.ARigidly... over
   // 0.05 s, where the cold start keeps 1e-6).
-  const PcgResult<Vec3> result = solve_pcg<Vec3, true>(
-      n, apply, [](std::size_t) { return true; }, diag, viscosity_rhs_, v_, stop,
-      setup_.settings.implicit_max_iterations, viscosity_pcg_);
-  viscosity_iterations_ = result.iterations;
-  require_acceptable(
-      result, b_norm2,
-      [&] { return fmt::format("SPH step {} (t = {:.6g} s): implicit stress-form viscosity", steps_, time_); },
-      "solver.sph.implicit_viscosity.max_iterations");
+  find_wall_supports();
+  solve_supported<true>(apply, diag, b_norm2, "implicit stress-form viscosity");
+}
+
+// The walls a body rests on hold it inside the viscous solve: a particle
+// touching a wall and not moving away from it keeps the wall's normal
+// velocity, so the solve carries the wall's reaction through the body
+// instead of leaving it to the next step's pressure (docs/physics.md,
+// "Implicit viscosity"). Conjugate gradients filtered as Baraff & Witkin
+// (1998, "Large steps in cloth simulation", §5.3) do: the right-hand side,
+// the start and every product are projected on the free directions. A wall
+// pushes and never pulls: where the solved velocity needs the wall to hold a
+// particle down (its reaction (A v − b)·n < 0), the particle is let go and
+// the solve goes on from where it stopped (at most two more rounds).
+template <bool Coupled, class Apply>
+void SphSolver::solve_supported(Apply& apply, const std::vector<Real>& diag, const Vec3& b_norm2, const char* what) {
+  const std::size_t n = x_.size();
+  const Real tol = setup_.settings.implicit_tolerance;
+  const Vec3 stop = (tol * tol) * b_norm2;
+  parallel_for(
+      n,
+      [&](std::size_t i) {
+        const Vec3& normal = support_normal_[i];
+        if (normal.isZero()) return;
+        support_push_[i] = viscosity_rhs_[i].dot(normal);
+        remove_supported_normal(i, viscosity_rhs_[i]);
+        v_[i] += (support_velocity_[i] - v_[i].dot(normal)) * normal;
+      },
+      4096);
+  viscosity_iterations_ = 0;
+  for (int round = 0;; ++round) {
+    const PcgResult<Vec3> result = solve_pcg<Vec3, Coupled>(
+        n, apply, [](std::size_t) { return true; }, diag, viscosity_rhs_, v_, stop,
+        setup_.settings.implicit_max_iterations, viscosity_pcg_);
+    viscosity_iterations_ += result.iterations;
+    require_acceptable(
+        result, b_norm2, [&] { return fmt::format("SPH step {} (t = {:.6g} s): {}", steps_, time_, what); },
+        "solver.sph.implicit_viscosity.max_iterations");
+    if (round == 2 || supported_ == 0) break;
+    std::vector<Vec3>& product = viscosity_pcg_.ap;
+    filter_supports_ = false;
+    apply(v_, product);
+    filter_supports_ = true;
+    const std::size_t released = std::size_t(deterministic_sum(n, [&](std::size_t i) {
+      const Vec3& normal = support_normal_[i];
+      if (normal.isZero() || product[i].dot(normal) - support_push_[i] >= 0) return 0.0;
+      viscosity_rhs_[i] += support_push_[i] * normal;
+      support_normal_[i] = Vec3::Zero();
+      return 1.0;
+    }));
+    if (released == 0) break;
+    supported_ -= released;
+  }
+}
+
+// Particles touching an analytic wall and not moving away from it: their
+// velocity normal to the wall is the wall's in the viscous solve.
+std::size_t SphSolver::find_wall_supports() {
+  const std::size_t n = x_.size();
+  support_normal_.resize(n);
+  support_velocity_.resize(n);
+  support_push_.resize(n);
+  // Within 5% of the contact distance: the pressure holds a resting layer a
+  // little off the distance the collide phase puts it at.
+  const Real reach = 1.05 * contact_distance_;
+  supported_ = std::size_t(deterministic_sum(n, [&](std::size_t i) {
+    Vec3 normal = Vec3::Zero();
+    Real speed = 0, nearest = reach;
+    for (std::size_t c = 0; c < walls_.size(); ++c)
+      for_each_wall_of(c, x_[i], reach, [&](const WallContact& w, const Vec3& wall_velocity) {
+        if (w.distance >= nearest || (v_[i] - wall_velocity).dot(w.normal) > 0) return;
+        nearest = w.distance;
+        normal = w.normal;
+        speed = wall_velocity.dot(w.normal);
+      });
+    support_normal_[i] = normal;
+    support_velocity_[i] = speed;
+    return normal.isZero() ? 0.0 : 1.0;
+  }));
+  return supported_;
+}
+
+void SphSolver::remove_supported_normal(std::size_t i, Vec3& value) const {
+  if (!filter_supports_ || support_normal_[i].isZero()) return;
+  value -= value.dot(support_normal_[i]) * support_normal_[i];
 }
 
 }  // namespace bakesim::sph
