@@ -210,8 +210,8 @@ void SphSolver::solve_stress_viscosity(Real dt, const std::vector<Real>& diag) {
 // The walls a body rests on hold it inside the viscous solve: a particle
 // touching a wall and not moving away from it keeps the wall's normal
 // velocity, so the solve carries the wall's reaction through the body
-// instead of leaving it to the next step's pressure (docs/physics.md,
-// "Implicit viscosity"). Conjugate gradients filtered as Baraff & Witkin
+// instead of leaving it to the next step's pressure (docs/physics.md, "Walls
+// in the implicit viscous solve"). Conjugate gradients filtered as Baraff & Witkin
 // (1998, "Large steps in cloth simulation", §5.3) do: the right-hand side,
 // the start and every product are projected on the free directions. A wall
 // pushes and never pulls: where the solved velocity needs the wall to hold a
