@@ -390,9 +390,9 @@ class SphSolver final : public Solver {
   // Per particle: the normal of the wall it rests on (zero where none) and the wall's speed along it.
   std::vector<Vec3> support_normal_;
   std::vector<Real> support_velocity_;
-  std::vector<Real> support_push_;  // b·n of a supported particle before the filter (its reaction's reference)
-  std::size_t supported_ = 0;       // particles with a support this solve
-  bool filter_supports_ = true;     // false while the reactions are measured
+  std::vector<Real> support_push_;    // b·n of a supported particle before the filter (its reaction's reference)
+  std::size_t supported_ = 0;         // particles with a support this solve
+  bool measuring_reactions_ = false;  // the products are unfiltered, and only supported rows computed
   // Per neighbour pair, in the layout of lists_ (computed by the density
   // phase, valid until positions change): W(r) and W'(r)/r.
   std::vector<float> pair_w_, pair_dwr_;

@@ -78,6 +78,7 @@ void SphSolver::phase_viscosity(Real dt) {
   }
   auto apply = [&](const std::vector<Vec3>& in, std::vector<Vec3>& out) {
     parallel_for(n, [&](std::size_t i) {
+      if (measuring_reactions_ && support_normal_[i].isZero()) return;  // only the supported rows are read
       const std::uint32_t* nb = lists_.begin(i);
       const std::uint32_t count = lists_.count(i);
       const float* w = pair_visc_.data() + i * stride;
@@ -184,6 +185,7 @@ void SphSolver::solve_stress_viscosity(Real dt, const std::vector<Real>& diag) {
       stress_times_correction_[i] = s * correction_[i];
     });
     parallel_for(n, [&](std::size_t k) {
+      if (measuring_reactions_ && support_normal_[k].isZero()) return;  // only the supported rows are read
       const std::uint32_t* nb = lists_.begin(k);
       const std::uint32_t count = lists_.count(k);
       const Vec3* g = pair_volume_gradient_.data() + k * stride;
@@ -243,9 +245,9 @@ void SphSolver::solve_supported(Apply& apply, const std::vector<Real>& diag, con
         "solver.sph.implicit_viscosity.max_iterations");
     if (round == 2 || supported_ == 0) break;
     std::vector<Vec3>& product = viscosity_pcg_.ap;
-    filter_supports_ = false;
+    measuring_reactions_ = true;  // unfiltered, and only the supported rows
     apply(v_, product);
-    filter_supports_ = true;
+    measuring_reactions_ = false;
     const std::size_t released = std::size_t(deterministic_sum(n, [&](std::size_t i) {
       const Vec3& normal = support_normal_[i];
       if (normal.isZero() || product[i].dot(normal) - support_push_[i] >= 0) return 0.0;
@@ -286,7 +288,7 @@ std::size_t SphSolver::find_wall_supports() {
 }
 
 void SphSolver::remove_supported_normal(std::size_t i, Vec3& value) const {
-  if (!filter_supports_ || support_normal_[i].isZero()) return;
+  if (measuring_reactions_ || support_normal_[i].isZero()) return;
   value -= value.dot(support_normal_[i]) * support_normal_[i];
 }
 
