@@ -172,6 +172,7 @@ class SphSolver final : public Solver {
   void solve_stress_viscosity(Real dt, const std::vector<Real>& diag);  // phase_viscosity, stress form
   // The walls bodies rest on in this step's viscous solve (support_normal_, …); returns how many particles.
   std::size_t find_wall_supports();
+  void clear_wall_supports();                                      // none (the Laplacian form)
   void remove_supported_normal(std::size_t i, Vec3& value) const;  // the free directions of particle i
   template <bool Coupled, class Apply>
   void solve_supported(Apply& apply, const std::vector<Real>& diag, const Vec3& b_norm2, const char* what);

@@ -93,12 +93,13 @@ void SphSolver::phase_viscosity(Real dt) {
   };
   const Vec3 b_norm2 = build_viscosity_rhs(dt);
   start_viscous_guess();
-  // The three components are three systems with the same matrix, unless a
-  // wall's support ties them together (its normal need not be an axis).
-  if (find_wall_supports() == 0)
-    solve_supported<false>(apply, diag, b_norm2, "implicit viscosity");
-  else
-    solve_supported<true>(apply, diag, Vec3::Constant(b_norm2.sum()), "implicit viscosity");
+  // The Laplacian form leaves the walls to the pressure (no supports): with
+  // them its three component systems become one coupled system, and on the
+  // full bread-roll bake the solve took 12.6 instead of 7.3 ms a step (the
+  // whole bake 480 s against 395 s, one run each) for the same bake
+  // (docs/physics.md, "Walls in the implicit viscous solve").
+  clear_wall_supports();
+  solve_supported<false>(apply, diag, b_norm2, "implicit viscosity");
   keep_viscous_change();
 }
 
@@ -285,6 +286,11 @@ std::size_t SphSolver::find_wall_supports() {
     return normal.isZero() ? 0.0 : 1.0;
   }));
   return supported_;
+}
+
+void SphSolver::clear_wall_supports() {
+  support_normal_.assign(x_.size(), Vec3::Zero());
+  supported_ = 0;
 }
 
 void SphSolver::remove_supported_normal(std::size_t i, Vec3& value) const {
