@@ -170,9 +170,8 @@ class SphSolver final : public Solver {
   void phase_xsph(Real dt);
   void phase_viscosity(Real dt);
   void solve_stress_viscosity(Real dt, const std::vector<Real>& diag);  // phase_viscosity, stress form
-  // The walls bodies rest on in this step's viscous solve (support_normal_, …); returns how many particles.
-  std::size_t find_wall_supports();
-  void clear_wall_supports();                                      // none (the Laplacian form)
+  // The walls bodies rest on in this step's viscous solve (support_normal_, …, supported_).
+  void find_wall_supports();
   void remove_supported_normal(std::size_t i, Vec3& value) const;  // the free directions of particle i
   template <bool Coupled, class Apply>
   void solve_supported(Apply& apply, const std::vector<Real>& diag, const Vec3& b_norm2, const char* what);
@@ -392,7 +391,7 @@ class SphSolver final : public Solver {
   std::vector<Vec3> support_normal_;
   std::vector<Real> support_velocity_;
   std::vector<Real> support_push_;    // b·n of a supported particle before the filter (its reaction's reference)
-  std::size_t supported_ = 0;         // particles with a support this solve
+  std::size_t supported_ = 0;         // particles with a support this solve (none in the Laplacian form)
   bool measuring_reactions_ = false;  // the products are unfiltered, and only supported rows computed
   // Per neighbour pair, in the layout of lists_ (computed by the density
   // phase, valid until positions change): W(r) and W'(r)/r.

@@ -238,8 +238,8 @@ TEST(StressViscosity, ARigidlySpinningViscousBallKeepsItsSpin) {
 }
 
 // A wall the body rests on holds it inside the viscous solve (the particles
-// touching it keep the wall's normal velocity; docs/physics.md, "Implicit
-// viscosity"). A Newtonian column as tall as it is wide, μ = 28,300 Pa·s (the
+// touching it keep the wall's normal velocity; docs/physics.md, "Walls in the
+// implicit viscous solve"). A Newtonian column as tall as it is wide, μ = 28,300 Pa·s (the
 // yield-stress slump's at-rest viscosity), on the free-slip floor: under its
 // own weight it should shorten by ρgH²t/(6μ) (uniaxial slices; 0.0006 H in
 // 0.1 s) plus the weakly compressible column's hydrostatic compression

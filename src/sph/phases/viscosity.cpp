@@ -78,7 +78,6 @@ void SphSolver::phase_viscosity(Real dt) {
   }
   auto apply = [&](const std::vector<Vec3>& in, std::vector<Vec3>& out) {
     parallel_for(n, [&](std::size_t i) {
-      if (measuring_reactions_ && support_normal_[i].isZero()) return;  // only the supported rows are read
       const std::uint32_t* nb = lists_.begin(i);
       const std::uint32_t count = lists_.count(i);
       const float* w = pair_visc_.data() + i * stride;
@@ -88,7 +87,6 @@ void SphSolver::phase_viscosity(Real dt) {
       Vec3 off = Vec3::Zero();
       for (std::uint32_t k = 0; k < count; ++k) off += Real(w[k]) * in[nb[k]];
       out[i] = diag[i] * vi - off;
-      remove_supported_normal(i, out[i]);
     });
   };
   const Vec3 b_norm2 = build_viscosity_rhs(dt);
@@ -98,7 +96,7 @@ void SphSolver::phase_viscosity(Real dt) {
   // full bread-roll bake the solve took 12.6 instead of 7.3 ms a step (the
   // whole bake 480 s against 395 s, one run each) for the same bake
   // (docs/physics.md, "Walls in the implicit viscous solve").
-  clear_wall_supports();
+  supported_ = 0;
   solve_supported<false>(apply, diag, b_norm2, "implicit viscosity");
   keep_viscous_change();
 }
@@ -172,7 +170,6 @@ void SphSolver::solve_stress_viscosity(Real dt, const std::vector<Real>& diag) {
     m.computeInverseAndDetWithCheck(inverse, det, invertible);
     correction_[i] = invertible && det > 0.05 ? Mat3(inverse.transpose()) : Mat3::Identity();
   });
-  find_wall_supports();
   auto apply = [&](const std::vector<Vec3>& in, std::vector<Vec3>& out) {
     parallel_for(n, [&](std::size_t i) {
       const std::uint32_t* nb = lists_.begin(i);
@@ -225,16 +222,17 @@ void SphSolver::solve_supported(Apply& apply, const std::vector<Real>& diag, con
   const std::size_t n = x_.size();
   const Real tol = setup_.settings.implicit_tolerance;
   const Vec3 stop = (tol * tol) * b_norm2;
-  parallel_for(
-      n,
-      [&](std::size_t i) {
-        const Vec3& normal = support_normal_[i];
-        if (normal.isZero()) return;
-        support_push_[i] = viscosity_rhs_[i].dot(normal);
-        remove_supported_normal(i, viscosity_rhs_[i]);
-        v_[i] += (support_velocity_[i] - v_[i].dot(normal)) * normal;
-      },
-      4096);
+  if (supported_ > 0)
+    parallel_for(
+        n,
+        [&](std::size_t i) {
+          const Vec3& normal = support_normal_[i];
+          if (normal.isZero()) return;
+          support_push_[i] = viscosity_rhs_[i].dot(normal);
+          remove_supported_normal(i, viscosity_rhs_[i]);
+          v_[i] += (support_velocity_[i] - v_[i].dot(normal)) * normal;
+        },
+        4096);
   viscosity_iterations_ = 0;
   for (int round = 0;; ++round) {
     const PcgResult<Vec3> result = solve_pcg<Vec3, Coupled>(
@@ -263,7 +261,7 @@ void SphSolver::solve_supported(Apply& apply, const std::vector<Real>& diag, con
 
 // Particles touching an analytic wall and not moving away from it: their
 // velocity normal to the wall is the wall's in the viscous solve.
-std::size_t SphSolver::find_wall_supports() {
+void SphSolver::find_wall_supports() {
   const std::size_t n = x_.size();
   support_normal_.resize(n);
   support_velocity_.resize(n);
@@ -285,12 +283,6 @@ std::size_t SphSolver::find_wall_supports() {
     support_velocity_[i] = speed;
     return normal.isZero() ? 0.0 : 1.0;
   }));
-  return supported_;
-}
-
-void SphSolver::clear_wall_supports() {
-  support_normal_.assign(x_.size(), Vec3::Zero());
-  supported_ = 0;
 }
 
 void SphSolver::remove_supported_normal(std::size_t i, Vec3& value) const {
