@@ -191,6 +191,7 @@ class Simulation {
     arena_.execute([&] {
       dt = checked_stable_dt(*solver_, min_dt_, info_.steps);
       solver_->step(dt);
+      solver_->synchronize();  // what Python reads next is at time()
     });
     info_.last_dt = dt;
     ++info_.steps;
@@ -211,6 +212,7 @@ class Simulation {
         ++info_.steps;
         ++steps;
       }
+      solver_->synchronize();
     });
     return steps;
   }

@@ -22,6 +22,10 @@ class Solver {
   virtual const char* active_dt_bound() const = 0;
   // Advances the state by dt; throws SimulationError on an invalid state.
   virtual void step(Real dt) = 0;
+  // Brings what advances on a slower clock than the steps (SPH heat, water
+  // and browning every few steps) to time(): the frame loop calls it before a
+  // frame is read or written. A no-op when nothing lags.
+  virtual void synchronize() {}
   virtual Real time() const = 0;
   virtual const ParticleSet& particles() const = 0;
   virtual const PhaseTimers& timers() const = 0;

@@ -77,6 +77,7 @@ sph::Settings build_settings(const Ctx& c, const json& doc) {
   st.heat_conduction = sj["heat_conduction"].get<bool>();
   st.corrected_laplacian = sj["corrected_laplacian"].get<bool>();
   st.conduction_factor = sj["conduction_factor"].get<double>();
+  st.heat_own_step = sj["heat_step"].get<std::string>() == "own";
   st.viscous_factor = sj["viscous_factor"].get<double>();
   st.force_factor = sj["force_factor"].get<double>();
   st.surface_method = sph::parse_surface_method(sj["surface"]["method"].get<std::string>());

@@ -57,6 +57,7 @@ RunSummary run_frames(Solver& solver, const FrameLoopConfig& cfg, FrameObserver&
       ++info.steps;
       progress.update({f - 1, frames, solver.time(), cfg.end_time, info.steps, cfg.bake_time_scale});
     }
+    solver.synchronize();  // the frame reads every field at its time
     info.frame = f;
     info.time = solver.time();
     observer.on_frame(info, solver);  // which frames get particle files is the observer's choice

@@ -127,6 +127,10 @@ struct Settings {
   bool heat_conduction = true;
   bool corrected_laplacian = true;  // pair exchange divided by the mean kernel moment (docs/physics.md)
   Real conduction_factor = 0.1;
+  // Heat, water and browning advance once every few mechanical steps, over
+  // their summed time, while that sum stays within the conduction and
+  // vapour-diffusion bounds (at most kMaxHeatEverySteps); false: every step.
+  bool heat_own_step = true;
   Real viscous_factor = 0.125;
   Real force_factor = 0.25;
   Real max_dt = 1e-3;

@@ -75,6 +75,11 @@ class SphSolver final : public Solver {
   };
   StepBounds time_step_bounds() const;
   void step(Real dt) override;
+  void synchronize() override;
+  // Mechanical steps whose heat, water and browning are still to be taken (heat_own_step).
+  int heat_pending_steps() const { return heat_pending_steps_; }
+  // The most steps the heat may lag (Settings::heat_own_step).
+  static constexpr int kMaxHeatEverySteps = 8;
   Real time() const override { return time_; }
   const ParticleSet& particles() const override { return particles_; }
   std::vector<std::pair<std::string, double>> checkpoint_state() const override;
@@ -137,7 +142,13 @@ class SphSolver final : public Solver {
   // Whether some pair may have come within reach since the anchors (Verlet).
   bool moved_past_skin() const;
   void phase_density();
-  void phase_surface();
+  // The colour gradient every step; the surface flags and exchange areas only
+  // when `flags` (a step that takes the heat: nothing else reads them).
+  void phase_surface(bool flags = true);
+  // Whether this step takes the heat phases (heat_own_step), adding dt to what is pending.
+  bool heat_due(Real dt);
+  // Heat, water and browning over the pending time (in substeps within the thermal bound).
+  void advance_heat();
   void phase_stress(Real dt);
   void phase_stress_increment();  // implicit elasticity: w (R + μ_e D') of the solved velocities
   void phase_pressure();
@@ -191,7 +202,8 @@ class SphSolver final : public Solver {
   // The profile from particle i to the face it turns to the oven (physics/heat.hpp).
   CrustFace crust_face(std::size_t i) const;
   void phase_water(Real dt);
-  void phase_properties();
+  // The temperature curves only when `temperature_changed`; the rise state and yield-stress viscosity every step.
+  void phase_properties(bool temperature_changed = true);
   void apparent_viscosity(int material);
   void phase_smoothing();
   void assign_bubbles();
@@ -405,6 +417,12 @@ class SphSolver final : public Solver {
   Real time_ = 0.0;
   long steps_ = 0;
   const char* dt_bound_ = "cfl";
+  // heat_own_step: the mechanical time whose heat is still to be taken, over
+  // how many steps, and the thermal bound (conduction, vapour diffusion) of the
+  // last max_stable_dt (0 until asked: every step).
+  Real heat_pending_ = 0;
+  int heat_pending_steps_ = 0;
+  Real heat_bound_ = 0;
 };
 
 }  // namespace bakesim::sph

@@ -79,6 +79,7 @@ TEST(BreadRoll, RisesStaysInItsTinAndBakesThrough) {
       if (id[i] == core_id) last_core = ps.scalar("temperature")[i];
     }
   }
+  solver.synchronize();  // the surface flags and temperatures of the last positions
   const double v1 = compute_body_stats(solver.particles(), 1, Vec3::UnitY())[0].volume;
   // Issue 20: after the rise no particle deeper than two spacings is flagged
   // as surface. Depth: to the tin's walls and floor, or to the top of the
@@ -162,6 +163,7 @@ TEST(BreadRoll, CoarseWholeBakeBrownsItsTopAndNotItsCrumb) {
   const auto& tin = std::get<ContainerCollider>(scene.sph.colliders.at(0).geometry).inner;
   while (solver.time() < scene.end_time - 1e-12)
     solver.step(std::min(solver.max_stable_dt(), scene.end_time - solver.time()));
+  solver.synchronize();  // as the frame loop does before a frame
 
   const auto& ps = solver.particles();
   const auto& x = ps.vector("position");
@@ -276,6 +278,7 @@ TEST(SphCookie, FromThePresetItSpreadsSetsAndBakesThrough) {
             past_line, double(temperature[i]) -
                            scene.sph.materials[std::size_t(material[i])].moisture.boiling_temperature(moisture[i]));
   }
+  solver.synchronize();
   const auto after = compute_body_stats(solver.particles(), 1, Vec3::UnitY())[0];
   const double width1 = width(solver.particles());
   std::printf(

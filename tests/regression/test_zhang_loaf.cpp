@@ -88,6 +88,7 @@ TEST_P(ZhangLoaf, CentreAndSideFollowTheMeasuredLoafAndTheWeightLossIsInTheBand)
   while (solver->time() < end - 1e-12) {
     const double target = std::min(end, solver->time() + frame);
     while (solver->time() < target - 1e-12) solver->step(std::min(solver->max_stable_dt(), target - solver->time()));
+    solver->synchronize();  // as the frame loop does before a frame
     const auto& ps = solver->particles();
     const auto& id = ps.integer("id");
     for (std::size_t i = 0; i < id.size(); ++i) {
@@ -165,6 +166,7 @@ TEST(TinLoaf, ProbesPlateauBelowTheBoilingPointAndTheTopProbeFollowsItsMeasuredC
   while (solver->time() < end - 1e-12) {
     const double target = std::min(end, solver->time() + frame);
     while (solver->time() < target - 1e-12) solver->step(std::min(solver->max_stable_dt(), target - solver->time()));
+    solver->synchronize();  // as the frame loop does before a frame
     const double minute = scene.oven.bake_time(solver->time()) / 60;
     for (int p = 0; p < 3; ++p) model[p].emplace_back(minute, solver->sample(points[p], {"temperature"})[0]);
   }

@@ -79,7 +79,9 @@ inline std::unique_ptr<mpm::MpmSolver> make_mpm(const nlohmann::json& doc) {
   return std::make_unique<mpm::MpmSolver>(scene.mpm);
 }
 
-// Steps with the solver's stable dt, landing exactly on t_end.
+// Steps with the solver's stable dt, landing exactly on t_end, where every
+// field is brought to t_end (Solver::synchronize, as the frame loop does
+// before a frame); on_step sees the state as the steps leave it.
 template <class OnStep>
 inline void advance_to(Solver& s, double t_end, OnStep&& on_step) {
   while (s.time() < t_end - 1e-12) {
@@ -87,6 +89,7 @@ inline void advance_to(Solver& s, double t_end, OnStep&& on_step) {
     s.step(dt);
     on_step();
   }
+  s.synchronize();
 }
 inline void advance_to(Solver& s, double t_end) {
   advance_to(s, t_end, [] {});

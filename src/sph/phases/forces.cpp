@@ -89,7 +89,7 @@ void SphSolver::phase_forces() {
     const Real lap_w0 = adaptive ? CubicSpline(hi).laplacian(0.0) : kernel_.laplacian(0.0);
     const Real rhoi = rho[i], pi_rho2 = p_rho2[i], mui = mu[i];
     Vec3 acc_p = Vec3::Zero(), acc_v = Vec3::Zero(), acc_av = Vec3::Zero(), acc_s = Vec3::Zero();
-    const Vec3 normal = colour_grad_[i];
+    const Vec3 normal = any_tension ? colour_grad_[i] : Vec3::Zero();  // kept every step only for tension
     // The colour sums run over all j including i (Eq 3.28); the self term of
     // the Laplacian is large and negative, without it ∇²C is biased positive
     // and the force would point outwards.

@@ -38,14 +38,14 @@ class CurveTemperature {
 // each particle's temperature, or the peak it reached once it has set
 // (irreversible setting, physics/setting.hpp). Each curve is visited once per material; the particle loop sees
 // a plain callable. Then the rise state of Eq 3.48–3.52.
-void SphSolver::phase_properties() {
+void SphSolver::phase_properties(bool temperature_changed) {
   ScopedPhase t(timers_, t_properties_);
   const std::size_t n = x_.size();
-  if (follows_peak_)
+  if (follows_peak_ && temperature_changed)
     parallel_for(
         n, [&](std::size_t i) { peak_temperature_[i] = std::max(peak_temperature_[i], temperature_[i]); }, 4096);
   auto follow = [&](int id, const TemperatureCurve& c, std::vector<Real>& out, Real lo, Real hi) {
-    if (is_constant(c)) return;
+    if (is_constant(c) || !temperature_changed) return;
     const CurveTemperature at(setup_.materials[id].set, temperature_, peak_temperature_);
     std::visit(
         [&](const auto& curve) {

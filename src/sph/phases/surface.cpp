@@ -27,10 +27,22 @@ constexpr Real kScanConeCos = 0.766044443118978;
 // surface particles (thesis 3.1.8): |∇C| h above a threshold (colour), or the
 // local convex hull test (convex_hull, every `surface_every` steps), and their
 // exchange areas.
-void SphSolver::phase_surface() {
+void SphSolver::phase_surface(bool flags) {
   ScopedPhase t(timers_, t_surface_);
   const Settings& s = setup_.settings;
   const std::size_t n = x_.size();
+  if (!flags) {
+    // The grid of open space follows the anchors and their radii: built when the flags are next wanted.
+    if (s.surface_open_space && anchors_moved_) {
+      parallel_for(
+          n, [&](std::size_t i) { fill_radius_[i] = std::cbrt(m_[i] / rho_[i]); }, 4096);
+      open_space_built_ = false;
+    }
+    // Between heat steps only surface tension reads the colour gradient.
+    bool any_tension = false;
+    for (const Material& mat : setup_.materials) any_tension |= mat.surface_tension != 0.0;
+    if (!any_tension) return;
+  }
   colour_grad_.resize(n);
   parallel_for(n, [&](std::size_t i) {
     Vec3 grad = Vec3::Zero();
@@ -43,6 +55,7 @@ void SphSolver::phase_surface() {
     }
     colour_grad_[i] = grad;
   });
+  if (!flags) return;
   if (s.surface_method == SurfaceMethod::colour) {
     const Real threshold = s.surface_colour_threshold;
     // A particle with almost no neighbours (blown off, or at the tip of an
