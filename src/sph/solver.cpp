@@ -478,24 +478,31 @@ Real SphSolver::max_stable_dt() {
   Real dt = std::numeric_limits<Real>::infinity();
   heat_bound_ = std::numeric_limits<Real>::infinity();
   for (const auto& [name, value] : time_step_bounds()) {
+    const bool thermal = is_heat_bound(name);
+    if (thermal) heat_bound_ = std::min(heat_bound_, value);
+    // On its own step the heat takes substeps within its bounds: they do not bound the mechanics.
+    if (thermal && setup_.settings.heat_own_step) continue;
     if (value < dt) {
       dt = value;
       dt_bound_ = name;
     }
-    if (std::strcmp(name, "conduction") == 0 || std::strcmp(name, "vapour_diffusion") == 0)
-      heat_bound_ = std::min(heat_bound_, value);
   }
   return dt;
 }
 
+bool SphSolver::is_heat_bound(const char* name) {
+  return std::strcmp(name, "conduction") == 0 || std::strcmp(name, "vapour_diffusion") == 0;
+}
+
 // The heat, water and browning phases are explicit on the bake clock and
 // bounded by their own diffusion limits, which in a dough scene lie several
-// CFL steps apart from the mechanics' (the roll: vapour diffusion 2.8e-4 s,
-// conduction 5.2e-4 s, CFL 1.3e-4 s). With heat_own_step they advance once
-// every few steps over the steps' summed time, as long as another step of
-// this size would carry that sum past their bound (and at most
-// kMaxHeatEverySteps steps); the temperature the mechanics read lags by those
-// few steps (docs/physics.md, "Heat on its own step").
+// CFL steps away from the mechanics' (the roll: vapour diffusion 2.8e-4 s,
+// conduction 5.2e-4 s, CFL 1.3e-4 s; the Zhang loaf: conduction 5.0e-5 s, CFL
+// 1.6e-4 s). With heat_own_step they advance once every few steps over the
+// steps' summed time, as long as another step of this size would carry that
+// sum past their bound (and at most kMaxHeatEverySteps steps), or in
+// substeps within it when one step is longer; the temperature the mechanics
+// read lags by those few steps (docs/physics.md, "Heat on its own step").
 bool SphSolver::heat_due(Real dt) {
   heat_pending_ += dt;
   ++heat_pending_steps_;
@@ -509,9 +516,10 @@ void SphSolver::advance_heat() {
   int parts = 1;
   if (setup_.settings.heat_own_step && heat_bound_ > 0 && total > heat_bound_)
     parts = static_cast<int>(std::ceil(total / heat_bound_ - 1e-9));
+  bool weights_ready = false;  // the substeps share this step's positions and so its pair weights
   for (int k = 0; k < parts; ++k) {
     const Real part = total / parts;
-    phase_heat(part);
+    phase_heat(part, weights_ready);
     if (moist_) phase_water(part);
     phase_browning(part);
   }

@@ -191,7 +191,10 @@ class SphSolver final : public Solver {
   Vec3 build_viscosity_rhs(Real dt);  // the implicit viscosity's M v*; returns its |b|² per component
   // The viscosity the implicit solve uses: μ, plus the step's elastic viscosity when elasticity is implicit.
   const std::vector<Real>& viscosity_in_solve() const { return implicit_elasticity_ ? solve_viscosity_ : mu_; }
-  void phase_heat(Real dt);
+  // `weights_ready`: this step's corrected-Laplacian weights are computed (set once they are).
+  void phase_heat(Real dt, bool& weights_ready);
+  // conduction or vapour_diffusion: the bounds of the heat phases' own step.
+  static bool is_heat_bound(const char* name);
   void update_laplacian_moments();  // laplacian_moment_ from this step's neighbours
   // The corrected Laplacian's factor for pair (i, j), 2/(a_i + a_j) (heat and water phases).
   void update_diffusion_weights();

@@ -79,7 +79,7 @@ void SphSolver::update_diffusion_weights() {
 // m c_p dT/dt = h A (T_ext − T_face) (crust_face below, physics/heat.hpp) with
 // T_ext the touching collider's temperature, or the oven air's. Heat runs on
 // the bake clock: dt_bake = scale · dt.
-void SphSolver::phase_heat(Real dt) {
+void SphSolver::phase_heat(Real dt, bool& weights_ready) {
   ScopedPhase t(timers_, t_heat_);
   const Oven& oven = setup_.oven;
   const Real dt_bake = oven.bake_step(dt);
@@ -107,9 +107,10 @@ void SphSolver::phase_heat(Real dt) {
         });
     isothermal = !(range.second > range.first);
   }
-  if ((setup_.settings.heat_conduction && !isothermal) || moist_) {  // the water phase's too
+  if (((setup_.settings.heat_conduction && !isothermal) || moist_) && !weights_ready) {  // the water phase's too
     update_laplacian_moments();
     update_diffusion_weights();
+    weights_ready = true;
   }
   if (setup_.settings.heat_conduction && !isothermal) {
     const Real* temp = temperature_.data();
