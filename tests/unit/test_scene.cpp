@@ -475,6 +475,14 @@ TEST(Checkpoint, CraftedContentsAreRefusedAfterTheChecksum) {
           if (name == "time") value = std::nan("");
       },
       "NaN time");
+  // The SPH heat waits a few steps at most (heat on its own step): a crafted wait of 10⁶ s would have
+  // made the next step take ~10¹⁰ heat substeps.
+  expect_refused(
+      [](Checkpoint& c) {
+        for (auto& [name, value] : c.solver_state)
+          if (name == "heat_pending") value = 1e6;
+      },
+      "heat a million seconds behind");
   expect_refused([](Checkpoint& c) { c.particles.resize(c.particles.size() - 1); }, "a particle missing");
 }
 

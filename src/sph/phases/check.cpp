@@ -64,6 +64,9 @@ std::string SphSolver::restored_state_problem() const {
                                                                            : nullptr;
     if (what) return fmt::format("particle entry {} (id {}) has {}", i, id_[i], what);
   }
+  // The heat waits at most kMaxHeatEverySteps steps of at most max_dt (heat_due).
+  if (heat_pending_ > kMaxHeatEverySteps * setup_.settings.max_dt * (1 + 1e-9))
+    return fmt::format("its heat is {:.3g} s behind, more than {} steps of max_dt", heat_pending_, kMaxHeatEverySteps);
   return {};
 }
 
