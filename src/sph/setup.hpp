@@ -129,7 +129,9 @@ struct Settings {
   Real conduction_factor = 0.1;
   // Heat, water and browning advance once every few mechanical steps, over
   // their summed time, while that sum stays within the conduction and
-  // vapour-diffusion bounds (at most kMaxHeatEverySteps); false: every step.
+  // vapour-diffusion bounds (at most kMaxHeatEverySteps), or in substeps
+  // within them where a step is longer, so those bounds do not bound the
+  // mechanical step; false: every step, bounded by them.
   bool heat_own_step = true;
   Real viscous_factor = 0.125;
   Real force_factor = 0.25;

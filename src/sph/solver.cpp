@@ -3,7 +3,6 @@
 #include <fmt/format.h>
 
 #include <cmath>
-#include <cstring>
 #include <limits>
 
 #include <Eigen/Eigenvalues>
@@ -119,6 +118,7 @@ SphSolver::SphSolver(Setup setup)
   adaptive_ = s.adaptive.enabled;
   for (const Material& m : setup_.materials)
     elastic_ |= !is_constant(m.elasticity) || std::get<ConstantCurve>(m.elasticity).value != 0.0;
+  for (const Material& m : setup_.materials) surface_tension_ |= m.surface_tension != 0.0;
   for (const Material& m : setup_.materials) follows_peak_ |= m.set.ever();
   for (const Body& b : setup_.bodies)
     bubble_b_.push_back(b.bubbles.pressure_scale ? *b.bubbles.pressure_scale
@@ -443,7 +443,7 @@ SphSolver::StepBounds SphSolver::time_step_bounds() const {
       alpha = std::max(alpha, (m.conductivity + k_cell) / (m.rest_density * m.specific_heat));
     }
     alpha = setup_.oven.bake_step(alpha);  // heat runs on the bake clock
-    if (alpha > 0) bounds.add("conduction", s.conduction_factor * hs * hs / alpha);
+    if (alpha > 0) bounds.add("conduction", s.conduction_factor * hs * hs / alpha, true);
   }
   if (moist_) {
     // The vapour's coupled heat–water diffusivity at the hottest moist temperature
@@ -469,7 +469,7 @@ SphSolver::StepBounds SphSolver::time_step_bounds() const {
       d = std::max(d, pw.step_diffusivity(tmax, m.rest_density, m.specific_heat, jmax));
     }
     d = setup_.oven.bake_step(d);
-    if (d > 0) bounds.add("vapour_diffusion", s.conduction_factor * hs * hs / d);
+    if (d > 0) bounds.add("vapour_diffusion", s.conduction_factor * hs * hs / d, true);
   }
   return bounds;
 }
@@ -477,21 +477,16 @@ SphSolver::StepBounds SphSolver::time_step_bounds() const {
 Real SphSolver::max_stable_dt() {
   Real dt = std::numeric_limits<Real>::infinity();
   heat_bound_ = std::numeric_limits<Real>::infinity();
-  for (const auto& [name, value] : time_step_bounds()) {
-    const bool thermal = is_heat_bound(name);
-    if (thermal) heat_bound_ = std::min(heat_bound_, value);
+  for (const StepBound& b : time_step_bounds()) {
+    if (b.heat) heat_bound_ = std::min(heat_bound_, b.dt);
     // On its own step the heat takes substeps within its bounds: they do not bound the mechanics.
-    if (thermal && setup_.settings.heat_own_step) continue;
-    if (value < dt) {
-      dt = value;
-      dt_bound_ = name;
+    if (b.heat && setup_.settings.heat_own_step) continue;
+    if (b.dt < dt) {
+      dt = b.dt;
+      dt_bound_ = b.name;
     }
   }
   return dt;
-}
-
-bool SphSolver::is_heat_bound(const char* name) {
-  return std::strcmp(name, "conduction") == 0 || std::strcmp(name, "vapour_diffusion") == 0;
 }
 
 // The heat, water and browning phases are explicit on the bake clock and

@@ -62,13 +62,14 @@ class SphSolver final : public Solver {
   struct StepBound {
     const char* name;
     Real dt;
+    bool heat;  // a bound of the heat phases (conduction, vapour diffusion): their own step with heat_own_step
   };
   struct StepBounds {
     std::array<StepBound, 8> list{};
     std::size_t count = 0;
-    void add(const char* name, Real dt) {
+    void add(const char* name, Real dt, bool heat = false) {
       assert(count < list.size() && "time_step_bounds adds at most seven");
-      list[count++] = {name, dt};
+      list[count++] = {name, dt, heat};
     }
     const StepBound* begin() const { return list.data(); }
     const StepBound* end() const { return list.data() + count; }
@@ -193,8 +194,6 @@ class SphSolver final : public Solver {
   const std::vector<Real>& viscosity_in_solve() const { return implicit_elasticity_ ? solve_viscosity_ : mu_; }
   // `weights_ready`: this step's corrected-Laplacian weights are computed (set once they are).
   void phase_heat(Real dt, bool& weights_ready);
-  // conduction or vapour_diffusion: the bounds of the heat phases' own step.
-  static bool is_heat_bound(const char* name);
   void update_laplacian_moments();  // laplacian_moment_ from this step's neighbours
   // The corrected Laplacian's factor for pair (i, j), 2/(a_i + a_j) (heat and water phases).
   void update_diffusion_weights();
@@ -283,6 +282,7 @@ class SphSolver final : public Solver {
   bool implicit_viscosity_ = false;
   Real rest_cfl_step_ = 1;            // s: the CFL bound at rest, cfl ħ / c (XSPH's reference step, auto viscosity)
   bool elastic_ = false;              // some material has a Maxwell stress (μ_e not identically 0)
+  bool surface_tension_ = false;      // some material has surface tension (reads the colour gradient every step)
   bool implicit_elasticity_ = false;  // its elastic increment is solved with the implicit viscosity
   bool heated_colliders_ = false;     // some collider carries a temperature
   bool follows_peak_ = false;         // some material reads its curves at the peak temperature

@@ -46,9 +46,9 @@ std::string SphSolver::summary() const {
                        c.contact.mode == ContactMode::sticky ? ", sticky (no-slip)" : "",
                        c.motion.moves() ? ", moving" : "");
   out += "time step  bounds at t = 0:\n";
-  for (const auto& [name, value] : time_step_bounds())
-    out += fmt::format("  {:<10} {:.3e} s{}\n", name, value,
-                       setup_.settings.heat_own_step && is_heat_bound(name) ? " (the heat's own step)" : "");
+  for (const StepBound& b : time_step_bounds())
+    out += fmt::format("  {:<10} {:.3e} s{}\n", b.name, b.dt,
+                       setup_.settings.heat_own_step && b.heat ? " (the heat's own step)" : "");
   return out;
 }
 

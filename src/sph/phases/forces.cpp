@@ -48,8 +48,7 @@ void SphSolver::phase_forces() {
   const Real h = h_;
   const Real av_eps_h2 = s.av_epsilon * h * h;
   const bool artificial = s.av_alpha != 0.0 || s.av_beta != 0.0;
-  bool any_tension = false;
-  for (const Material& mat : setup_.materials) any_tension |= mat.surface_tension != 0.0;
+  const bool any_tension = surface_tension_;
   const Vec3 g = setup_.gravity;
   // The divergence-free solves give the walls' pressure themselves.
   const bool wall_corr = s.wall_density_correction && !divergence_free_;

@@ -31,18 +31,15 @@ void SphSolver::phase_surface(bool flags) {
   ScopedPhase t(timers_, t_surface_);
   const Settings& s = setup_.settings;
   const std::size_t n = x_.size();
-  if (!flags) {
-    // The grid of open space follows the anchors and their radii: built when the flags are next wanted.
-    if (s.surface_open_space && anchors_moved_) {
-      parallel_for(
-          n, [&](std::size_t i) { fill_radius_[i] = std::cbrt(m_[i] / rho_[i]); }, 4096);
-      open_space_built_ = false;
-    }
-    // Between heat steps only surface tension reads the colour gradient.
-    bool any_tension = false;
-    for (const Material& mat : setup_.materials) any_tension |= mat.surface_tension != 0.0;
-    if (!any_tension) return;
+  // The grid of open space follows the anchors and their radii at the last
+  // search: built when the flags are next wanted (below).
+  if (s.surface_open_space && anchors_moved_) {
+    parallel_for(
+        n, [&](std::size_t i) { fill_radius_[i] = std::cbrt(m_[i] / rho_[i]); }, 4096);
+    open_space_built_ = false;
   }
+  // Between heat steps only surface tension reads the colour gradient.
+  if (!flags && !surface_tension_) return;
   colour_grad_.resize(n);
   parallel_for(n, [&](std::size_t i) {
     Vec3 grad = Vec3::Zero();
@@ -118,10 +115,7 @@ void SphSolver::phase_surface(bool flags) {
   // grid is built on the neighbour search's anchors, again only when it
   // searches: the particles have moved less than half the Verlet skin since
   // (0.1 h by default), a fraction of the grid's cell.
-  if (s.surface_open_space && (anchors_moved_ || !open_space_built_)) {
-    if (anchors_moved_)
-      parallel_for(
-          n, [&](std::size_t i) { fill_radius_[i] = std::cbrt(m_[i] / rho_[i]); }, 4096);
+  if (s.surface_open_space && !open_space_built_) {
     open_space_.build(anchor_, fill_radius_, s.spacing);
     open_space_built_ = true;
   }
