@@ -317,7 +317,7 @@ class SphSolver final : public Solver {
   std::vector<std::array<Real, 2>> water_coefficients_, water_change_;  // per step: (vapour, liquid)
   std::vector<std::array<Real, 3>> step_book_;                          // per step: latent J, boiled kg, clamped kg
   std::vector<Real> face_outside_, face_coefficient_;  // heat phase: what a surface particle faces (°C, W/(m² K))
-  std::vector<Real> face_share_;  // heat phase: the share of its area not against colliders without a temperature
+  std::vector<Real> face_share_;  // heat phase: the share of its area facing the oven air (not a collider)
   std::vector<Real> particle_k_;  // heat phase with moisture: k + the closed-cell heat pipe, W/(m K)
 
   ParticleSet particles_;

@@ -159,55 +159,84 @@ void SphSolver::phase_heat(Real dt, bool& weights_ready) {
       [&](std::size_t i) {
         dtemp_[i] = 0.0;
         air_facing_[i] = 0;
-        face_share_[i] = 1;
+        face_share_[i] = 0;
         face_coefficient_[i] = 0;  // no face: the browning phase takes the particle's temperature
         if (!surface_[i] || area_[i] <= 0 || setup_.bodies[body_[i]].hold_temperature) return;
-        Real outside = air, coefficient = oven.surface_coefficient(temperature_[i], air);
-        bool found = false;  // touching a heated collider (then no vapour leaves here)
-        // The share of the area facing colliders without a temperature, which insulate it
-        // (as in MPM): the colour gradient's component along the wall's normal. The
-        // domain's walls (no temperature) are skipped: in MPM the air reaches a face on them.
-        Real insulated = 0;
+        // The area splits by what it faces, as MPM splits a node's boundary
+        // area: the share facing a collider is the colour gradient's component
+        // along the collider's normal (the area vector projected on it), so a
+        // layer on a tray gives the tray its footprint and an edge particle
+        // gives the air its side. Colliders without a temperature insulate
+        // their share; the domain's walls (no temperature) are skipped: in MPM
+        // the air reaches a face on them. A mesh collider is found along the
+        // outward normal and its share is the same projection on the normals
+        // of the faces hit. (Before, a particle touching a heated collider gave
+        // it its whole area: the slab's bottom edge gave the tray its sides.)
         const Real len = colour_grad_[i].norm();
+        const Vec3 inward = len > 0 ? Vec3(colour_grad_[i] / len) : Vec3::Zero();
+        auto facing = [&](const Vec3& normal) {
+          return len > 0 ? std::clamp(inward.dot(normal), Real(0), Real(1)) : Real(1);
+        };
+        Real insulated = 0, heated = 0, largest = 0;
+        Real collider_outside = air, collider_coefficient = 0;
+        SurfaceExchange toward;  // the colliders' parts, before they are scaled to at most the whole area
+        auto add_heated = [&](Real part, Real outside, Real coefficient) {
+          if (!(part > 0)) return;
+          heated += part;
+          toward.add(part, coefficient, outside);
+          if (part > largest) largest = part, collider_outside = outside, collider_coefficient = coefficient;
+        };
         for (std::size_t ci = kDomainWall + 1; ci < walls_.size(); ++ci) {
           const Collider& c = walls_[ci];
-          if (!c.temperature) {
-            if (len > 0)
-              for_each_wall_of(ci, x_[i], touch, [&](const WallContact& w, const Vec3&) {
-                insulated = std::max(insulated, std::clamp(colour_grad_[i].dot(w.normal) / len, Real(0), Real(1)));
-              });
-            continue;
-          }
-          if (found) continue;
-          for_each_wall_of(ci, x_[i], touch, [&](const WallContact&, const Vec3&) { found = true; });
-          if (found) {
-            outside = wall_temperatures_[ci];
-            coefficient = c.heat_transfer_coefficient;
-          }
+          Real part = 0;
+          for_each_wall_of(ci, x_[i], touch,
+                           [&](const WallContact& w, const Vec3&) { part = std::max(part, facing(w.normal)); });
+          if (!c.temperature)
+            insulated = std::max(insulated, part);
+          else
+            add_heated(part, wall_temperatures_[ci], c.heat_transfer_coefficient);
         }
-        if (heated_colliders_) {
+        if (heated_colliders_ && len > 0) {
           for (std::size_t ci = 0; ci < meshes_.size(); ++ci) {
             const Collider& c = meshes_[ci];
-            if (!c.temperature || found || len <= 0) continue;
-            const Vec3 out = -colour_grad_[i] / len;
-            if (mesh_segment_hits(std::get<MeshCollider>(c.geometry), x_[i], x_[i] + touch * out, 0.0).hits > 0) {
-              found = true;
-              outside = mesh_temperatures_[ci];
-              coefficient = c.heat_transfer_coefficient;
-            }
+            if (!c.temperature) continue;
+            const Vec3 out = -inward;
+            const SegmentHit hit =
+                mesh_segment_hits(std::get<MeshCollider>(c.geometry), x_[i], x_[i] + touch * out, 0.0);
+            if (hit.hits == 0) continue;
+            const Real nn = hit.normal_sum.norm();
+            add_heated(nn > 0 ? std::abs(out.dot(hit.normal_sum) / nn) : Real(1), mesh_temperatures_[ci],
+                       c.heat_transfer_coefficient);
           }
         }
-        const Real share = found ? 1 : 1 - insulated;
-        face_share_[i] = share;
-        if (!(share > 0)) return;  // against an insulating wall all round: no exchange, no vapour leaves
-        air_facing_[i] = !found;
-        face_outside_[i] = outside;
-        face_coefficient_[i] = coefficient;
+        // A corner against two heated faces gives them all of its area (the
+        // parts summed, at most one), at their parts' mean coefficient and outside.
+        const Real parts = heated;
+        heated = std::min(heated, Real(1));
+        const Real air_share = std::max(Real(0), 1 - heated - insulated);
+        face_share_[i] = air_share;
+        if (!(air_share > 0) && !(heated > 0)) return;  // against insulating walls all round: no exchange
+        air_facing_[i] = air_share > 0 && air_share >= heated;
+        // The face the browning reads: the larger of the air's and the collider's.
+        const bool collider_face = heated > air_share;
+        face_outside_[i] = collider_face ? collider_outside : air;
+        face_coefficient_[i] = collider_face ? collider_coefficient : oven.surface_coefficient(temperature_[i], air);
         const Real capacity = m_[i] * setup_.materials[material_[i]].specific_heat;
         const Real before = temperature_[i];
-        // The face takes h (θ_out − θ_f) and passes it to the particle through its half-layer.
-        const Real to_centre = crust_face(i).coefficient_to_centre(before, outside, coefficient);
-        temperature_[i] = SurfaceExchange::relax(before, outside, to_centre, share * area_[i], capacity, dt_bake);
+        // Each face takes β (θ_out − θ_f) and passes it to the particle through its half-layer.
+        const CrustFace face = crust_face(i);
+        SurfaceExchange exchange;
+        if (air_share > 0) {
+          const Real coefficient = oven.surface_coefficient(before, air);
+          exchange.add(air_share * area_[i], face.coefficient_to_centre(before, air, coefficient), air);
+        }
+        if (heated > 0 && toward.conductance > 0) {
+          const Real beta = toward.conductance / parts, outside = toward.drive / toward.conductance;
+          exchange.add(heated * area_[i], face.coefficient_to_centre(before, outside, beta), outside);
+        }
+        if (!(exchange.conductance > 0)) return;  // coefficients of zero (no air exchange in the scene)
+        temperature_[i] = SurfaceExchange::relax(before, exchange.drive / exchange.conductance, exchange.conductance,
+                                                 1.0, capacity, dt_bake);
         dtemp_[i] = exchanged_energy(before, temperature_[i], capacity);
       },
       1024);

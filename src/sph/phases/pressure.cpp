@@ -9,7 +9,7 @@ namespace bakesim::sph {
 // Eq 3.17 (Tait, γ = 7); Eq 3.48–3.51 for rising bubbles; Eq 3.52 once the
 // rise has ended (reference density ρ_f keeps the risen volume). With
 // `vent_at_surface` a rising bubble that faced the oven air in the last heat
-// phase (air_facing_, a surface particle not against a heated collider) is
+// phase (air_facing_, a surface particle facing the air more than a collider) is
 // open to it and presses by Tait like dough: its gas escapes.
 // With the divergence-free pressure the force phase has no pressure (the
 // solves apply it) and this phase prepares the solves' factors.

@@ -64,7 +64,8 @@ void SphSolver::phase_water(Real dt) {
       liquid_sum += pair * (dl_i + dl_j) * (ci - liquid_concentration_[j]);
     }
     Real gained_as_vapour = dtb * volume_[i] * vapour_sum;
-    if (air_facing_[i]) gained_as_vapour -= dtb * h_m * (vapour[i] - air_vapour) * face_share_[i] * area_[i];
+    // The share of its area facing the air (none against a heated collider or an insulating one).
+    if (face_share_[i] > 0) gained_as_vapour -= dtb * h_m * (vapour[i] - air_vapour) * face_share_[i] * area_[i];
     water_change_[i] = {gained_as_vapour, dtb * volume_[i] * liquid_sum};
   });
   // Apply, with latent heat and the boiling cap; book what left.
