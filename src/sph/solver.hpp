@@ -318,6 +318,9 @@ class SphSolver final : public Solver {
   std::vector<std::array<Real, 3>> step_book_;                          // per step: latent J, boiled kg, clamped kg
   std::vector<Real> face_outside_, face_coefficient_;  // heat phase: what a surface particle faces (°C, W/(m² K))
   std::vector<Real> face_share_;  // heat phase: the share of its area facing the oven air (not a collider)
+  // Surface phase: the density with the walls' term over the summed density
+  // (≥ 1), which the area's shares against colliders take (surface phase).
+  std::vector<Real> contact_scale_;
   std::vector<Real> particle_k_;  // heat phase with moisture: k + the closed-cell heat pipe, W/(m K)
 
   ParticleSet particles_;

@@ -232,7 +232,9 @@ void SphSolver::phase_heat(Real dt, bool& weights_ready) {
         }
         if (heated > 0 && toward.conductance > 0) {
           const Real beta = toward.conductance / parts, outside = toward.drive / toward.conductance;
-          exchange.add(heated * area_[i], face.coefficient_to_centre(before, outside, beta), outside);
+          // The area turned to the collider, on the summed density (surface phase).
+          exchange.add(heated * area_[i] * contact_scale_[i], face.coefficient_to_centre(before, outside, beta),
+                       outside);
         }
         if (!(exchange.conductance > 0)) return;  // coefficients of zero (no air exchange in the scene)
         temperature_[i] = SurfaceExchange::relax(before, exchange.drive / exchange.conductance, exchange.conductance,
