@@ -319,7 +319,7 @@ class SphSolver final : public Solver {
   std::vector<Real> face_outside_, face_coefficient_;  // heat phase: what a surface particle faces (°C, W/(m² K))
   std::vector<Real> face_share_;  // heat phase: the share of its area facing the oven air (not a collider)
   // Surface phase: the density with the walls' term over the summed density
-  // (≥ 1), which the area's shares against colliders take (surface phase).
+  // (≥ 1); the heat phase's shares against colliders take the area times it.
   std::vector<Real> contact_scale_;
   std::vector<Real> particle_k_;  // heat phase with moisture: k + the closed-cell heat pipe, W/(m K)
 
@@ -362,8 +362,8 @@ class SphSolver final : public Solver {
   // v − v* of the last implicit viscosity solve, its next start (in the
   // registry: it follows sorts and checkpoints).
   std::vector<Vec3>& viscous_change_;
-  // Heat phase: this surface particle exchanges with the air (not a heated
-  // collider); in the registry, so the next step's pressure phase (vented
+  // Heat phase: this surface particle faces the air at least as much as a
+  // heated collider; in the registry, so the next step's pressure phase (vented
   // bubbles) reads it for the same particle after a sort or a restore.
   std::vector<std::int32_t>& air_facing_;
   // Divergence-free pressure: the density solve's κ = p/ρ² of the last

@@ -179,7 +179,7 @@ void SphSolver::phase_heat(Real dt, bool& weights_ready) {
         };
         Real insulated = 0, heated = 0, largest = 0;
         Real collider_outside = air, collider_coefficient = 0;
-        SurfaceExchange toward;  // the colliders' parts, before they are scaled to at most the whole area
+        SurfaceExchange toward;  // the heated colliders' parts (their mean coefficient and outside)
         auto add_heated = [&](Real part, Real outside, Real coefficient) {
           if (!(part > 0)) return;
           heated += part;
