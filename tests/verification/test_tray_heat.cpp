@@ -97,6 +97,32 @@ void expect_series_heat(const std::string& solver, bool pan) {
   }
 }
 
+// Runs `a` beside `b` (the slab on the tray, conductivity k) to Fo 0.083,
+// 0.25 and 0.5 and checks a's heat in against the plane-wall series (5%) and
+// against b's (pair_tolerance), recorded as "<name>_fo_N" and
+// "<name>_over_<other>_fo_N"; on_step(solver) runs after each step of either.
+template <class OnStep>
+void expect_heat_beside(Solver& a, Solver& b, double k, const std::string& name, const std::string& other,
+                        double pair_tolerance, OnStep&& on_step) {
+  const double alpha = k / (kRho * kCp), biot = kBeta * kThick / k;
+  const double q_max = kRho * kCp * kSide * kSide * kThick * (kTray - kStart);
+  for (double fo : {0.083, 0.25, 0.5}) {
+    const double t = fo * kThick * kThick / alpha / kClock;
+    test_support::advance_to(a, t, [&] { on_step(a); });
+    test_support::advance_to(b, t, [&] { on_step(b); });
+    const double series = q_max * test_support::plane_wall_energy_fraction(biot, fo);
+    const std::string at = "fo_" + std::to_string(int(fo * 1000));
+    ::testing::Test::RecordProperty(name + "_" + at, std::to_string(heat_in(a) / series));
+    ::testing::Test::RecordProperty(name + "_over_" + other + "_" + at, std::to_string(heat_in(a) / heat_in(b)));
+    EXPECT_NEAR(heat_in(a) / series, 1.0, 0.05) << name << " at Fo " << fo;
+    EXPECT_NEAR(heat_in(a) / heat_in(b), 1.0, pair_tolerance) << name << " at Fo " << fo;
+  }
+}
+void expect_heat_beside(Solver& a, Solver& b, double k, const std::string& name, const std::string& other,
+                        double pair_tolerance) {
+  expect_heat_beside(a, b, k, name, other, pair_tolerance, [](const Solver&) {});
+}
+
 }  // namespace
 
 // Outside the anonymous namespace: the test classes derive from it (unity builds warn otherwise).
@@ -130,20 +156,11 @@ TEST(SphHeatOwnStep, AdvancesEveryFewStepsAndFollowsTheSeries) {
   json every = own;
   every["solver"]["sph"]["heat_step"] = "every_step";
   const auto a = test_support::make_sph(own), b = test_support::make_sph(every);
-  const double alpha = kK / (kRho * kCp), biot = kBeta * kThick / kK;
-  const double q_max = kRho * kCp * kSide * kSide * kThick * (kTray - kStart);
   int most_pending = 0, every_pending = 0;
-  for (double fo : {0.083, 0.25, 0.5}) {
-    const double t = fo * kThick * kThick / alpha / kClock;
-    test_support::advance_to(*a, t, [&] { most_pending = std::max(most_pending, a->heat_pending_steps()); });
-    test_support::advance_to(*b, t, [&] { every_pending = std::max(every_pending, b->heat_pending_steps()); });
-    const double series = q_max * test_support::plane_wall_energy_fraction(biot, fo);
-    ::testing::Test::RecordProperty("own_fo_" + std::to_string(int(fo * 1000)), std::to_string(heat_in(*a) / series));
-    ::testing::Test::RecordProperty("own_over_every_fo_" + std::to_string(int(fo * 1000)),
-                                    std::to_string(heat_in(*a) / heat_in(*b)));
-    EXPECT_NEAR(heat_in(*a) / series, 1.0, 0.05) << "at Fo " << fo;
-    EXPECT_NEAR(heat_in(*a) / heat_in(*b), 1.0, 0.01) << "at Fo " << fo;
-  }
+  expect_heat_beside(*a, *b, kK, "own", "every", 0.01, [&](const Solver& s) {
+    int& most = &s == a.get() ? most_pending : every_pending;
+    most = std::max(most, static_cast<const sph::SphSolver&>(s).heat_pending_steps());
+  });
   ::testing::Test::RecordProperty("most_pending", most_pending);
   EXPECT_GE(most_pending, 2);  // the heat did wait for steps
   EXPECT_LT(most_pending, sph::SphSolver::kMaxHeatEverySteps);
@@ -168,19 +185,7 @@ TEST(SphHeatOwnStep, TakesSubstepsWhereItsBoundIsShorterThanTheStep) {
   json every = own;
   every["solver"]["sph"]["heat_step"] = "every_step";
   const auto a = test_support::make_sph(own), b = test_support::make_sph(every);
-  const double alpha = kConductive / (kRho * kCp), biot = kBeta * kThick / kConductive;
-  const double q_max = kRho * kCp * kSide * kSide * kThick * (kTray - kStart);
-  for (double fo : {0.083, 0.25, 0.5}) {
-    const double t = fo * kThick * kThick / alpha / kClock;
-    test_support::advance_to(*a, t);
-    test_support::advance_to(*b, t);
-    const double series = q_max * test_support::plane_wall_energy_fraction(biot, fo);
-    ::testing::Test::RecordProperty("own_fo_" + std::to_string(int(fo * 1000)), std::to_string(heat_in(*a) / series));
-    ::testing::Test::RecordProperty("own_over_every_fo_" + std::to_string(int(fo * 1000)),
-                                    std::to_string(heat_in(*a) / heat_in(*b)));
-    EXPECT_NEAR(heat_in(*a) / series, 1.0, 0.05) << "at Fo " << fo;
-    EXPECT_NEAR(heat_in(*a) / heat_in(*b), 1.0, 1e-3) << "at Fo " << fo;
-  }
+  expect_heat_beside(*a, *b, kConductive, "own", "every", 1e-3);
   ::testing::Test::RecordProperty("steps_own", std::to_string(a->steps()));
   ::testing::Test::RecordProperty("steps_every", std::to_string(b->steps()));
   EXPECT_LT(a->steps(), 0.7 * b->steps());  // the heat's bound no longer bounds the mechanics
@@ -208,17 +213,5 @@ TEST(SphMeshTray, AHeatedMeshTrayGivesTheSeriesHeatAsTheAnalyticTrayDoes) {
   json mesh = analytic;
   mesh["colliders"][0]["shape"] = {{"type", "mesh"}, {"file", (dir / "tray.obj").string()}};
   const auto a = test_support::make_sph(mesh), b = test_support::make_sph(analytic);
-  const double alpha = kK / (kRho * kCp), biot = kBeta * kThick / kK;
-  const double q_max = kRho * kCp * kSide * kSide * kThick * (kTray - kStart);
-  for (double fo : {0.083, 0.25, 0.5}) {
-    const double t = fo * kThick * kThick / alpha / kClock;
-    test_support::advance_to(*a, t);
-    test_support::advance_to(*b, t);
-    const double series = q_max * test_support::plane_wall_energy_fraction(biot, fo);
-    ::testing::Test::RecordProperty("mesh_fo_" + std::to_string(int(fo * 1000)), std::to_string(heat_in(*a) / series));
-    ::testing::Test::RecordProperty("mesh_over_analytic_fo_" + std::to_string(int(fo * 1000)),
-                                    std::to_string(heat_in(*a) / heat_in(*b)));
-    EXPECT_NEAR(heat_in(*a) / series, 1.0, 0.05) << "at Fo " << fo;
-    EXPECT_NEAR(heat_in(*a) / heat_in(*b), 1.0, 0.02) << "at Fo " << fo;
-  }
+  expect_heat_beside(*a, *b, kK, "mesh", "analytic", 0.02);
 }
