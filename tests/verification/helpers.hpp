@@ -15,6 +15,17 @@
 
 namespace bakesim::test_support {
 
+// Writes an axis-aligned box from `lo` to `hi` as an OBJ mesh (six quads,
+// faces outward), for mesh-collider tests.
+inline void write_box_obj(const std::string& path, const Vec3& lo, const Vec3& hi) {
+  std::ofstream f(path);
+  for (int k = 0; k < 8; ++k) {
+    const bool x = (k % 4 == 1 || k % 4 == 2), y = (k % 4 >= 2), z = k >= 4;
+    f << "v " << (x ? hi : lo).x() << ' ' << (y ? hi : lo).y() << ' ' << (z ? hi : lo).z() << '\n';
+  }
+  f << "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 4 8 7 3\nf 1 5 8 4\nf 2 3 7 6\n";
+}
+
 // Lattice particles inside a ball, as the scene sampler fills a body (each
 // stands for a cube of side s), shifted by `centre`, spread by ρ0/ρ.
 inline surface::SurfaceParticles lattice_ball(Real radius, Real s, Vec3 centre, Real density_ratio = 1.0) {

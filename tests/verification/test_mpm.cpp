@@ -253,12 +253,7 @@ TEST(Mpm, BlockComesToRestOnATriangleMeshCollider) {
   // dropped on it rests on its top face (the signed distance grid's surface).
   const auto dir = std::filesystem::temp_directory_path() / "bakesim_mpm_mesh";
   std::filesystem::create_directories(dir);
-  {
-    std::ofstream f(dir / "table.obj");
-    f << "v -0.05 0 -0.05\nv 0.05 0 -0.05\nv 0.05 0.05 -0.05\nv -0.05 0.05 -0.05\n"
-         "v -0.05 0 0.05\nv 0.05 0 0.05\nv 0.05 0.05 0.05\nv -0.05 0.05 0.05\n"
-         "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 4 8 7 3\nf 1 5 8 4\nf 2 3 7 6\n";
-  }
+  test_support::write_box_obj((dir / "table.obj").string(), Vec3(-0.05, 0, -0.05), Vec3(0.05, 0.05, 0.05));
   json doc = base_scene(
       0.005, {{"jelly", {{"density", 1000.0}, {"youngs_modulus", 5e4}, {"poisson_ratio", 0.3}}}},
       json::array({{{"name", "block"},
@@ -374,10 +369,9 @@ TEST(Mpm, EveryPointOfABodyThatFillsTheDomainIsKept) {
   // (the solver used to drop those within two cells of a face).
   const Real dx = 0.02;
   const json box = {{"type", "box"}, {"min", {0, 0, 0}}, {"max", {0.2, 0.1, 0.1}}};
-  json doc =
-      base_scene(dx, {{"jelly", {{"density", 1000.0}, {"youngs_modulus", 1e4}, {"poisson_ratio", 0.3}}}},
-                 json::array({{{"name", "filler"}, {"material", "jelly"}, {"shape", box}}}), {0, 0, 0}, {0.2, 0.1, 0.1},
-                 {0, -9.81, 0});
+  json doc = base_scene(dx, {{"jelly", {{"density", 1000.0}, {"youngs_modulus", 1e4}, {"poisson_ratio", 0.3}}}},
+                        json::array({{{"name", "filler"}, {"material", "jelly"}, {"shape", box}}}), {0, 0, 0},
+                        {0.2, 0.1, 0.1}, {0, -9.81, 0});
   auto s = make_mpm(doc);
   // 8 per cell, 2 per axis: (10·2) × (5·2) × (5·2) points.
   EXPECT_EQ(s->particles().size(), std::size_t(20 * 10 * 10));
@@ -387,15 +381,15 @@ TEST(Mpm, EveryPointOfABodyThatFillsTheDomainIsKept) {
 }
 
 TEST(Mpm, ABodyReachingOutOfTheDomainIsAnErrorNamingIt) {
-  json doc = base_scene(
-      0.02, {{"jelly", {{"density", 1000.0}, {"youngs_modulus", 1e4}, {"poisson_ratio", 0.3}}}},
-      json::array({{{"name", "inside"},
-                    {"material", "jelly"},
-                    {"shape", {{"type", "box"}, {"min", {0.02, 0.02, 0.02}}, {"max", {0.08, 0.08, 0.08}}}}},
-                   {{"name", "poking-out"},
-                    {"material", "jelly"},
-                    {"shape", {{"type", "box"}, {"min", {0.1, 0.02, 0.02}}, {"max", {0.25, 0.08, 0.08}}}}}}),
-      {0, 0, 0}, {0.2, 0.1, 0.1}, {0, -9.81, 0});
+  json doc =
+      base_scene(0.02, {{"jelly", {{"density", 1000.0}, {"youngs_modulus", 1e4}, {"poisson_ratio", 0.3}}}},
+                 json::array({{{"name", "inside"},
+                               {"material", "jelly"},
+                               {"shape", {{"type", "box"}, {"min", {0.02, 0.02, 0.02}}, {"max", {0.08, 0.08, 0.08}}}}},
+                              {{"name", "poking-out"},
+                               {"material", "jelly"},
+                               {"shape", {{"type", "box"}, {"min", {0.1, 0.02, 0.02}}, {"max", {0.25, 0.08, 0.08}}}}}}),
+                 {0, 0, 0}, {0.2, 0.1, 0.1}, {0, -9.81, 0});
   try {
     make_mpm(doc);
     FAIL() << "a body reaching out of the domain was accepted";
@@ -413,12 +407,12 @@ namespace {
 // along −x: its mean displacement after 0.1 s.
 Real hanging_displacement(Real offset) {
   const Real dx = 0.01, b = 0.05;
-  json doc = base_scene(
-      dx, {{"jelly", {{"density", 1000.0}, {"youngs_modulus", 1e5}, {"poisson_ratio", 0.3}}}},
-      json::array({{{"name", "block"},
-                    {"material", "jelly"},
-                    {"shape", {{"type", "box"}, {"min", {-0.05, -b, -0.03}}, {"max", {0.05, b, 0.03}}}}}}),
-      {-0.15, -0.08, -0.05}, {0.15, 0.08, 0.05}, {-9.81, 0, 0});
+  json doc =
+      base_scene(dx, {{"jelly", {{"density", 1000.0}, {"youngs_modulus", 1e5}, {"poisson_ratio", 0.3}}}},
+                 json::array({{{"name", "block"},
+                               {"material", "jelly"},
+                               {"shape", {{"type", "box"}, {"min", {-0.05, -b, -0.03}}, {"max", {0.05, b, 0.03}}}}}}),
+                 {-0.15, -0.08, -0.05}, {0.15, 0.08, 0.05}, {-9.81, 0, 0});
   doc["colliders"] =
       json::array({{{"name", "lower"},
                     {"shape", {{"type", "plane"}, {"point", {0, -b - offset, 0}}, {"normal", {0, 1, 0}}}},

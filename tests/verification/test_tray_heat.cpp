@@ -14,7 +14,6 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <string>
 
 #include "helpers.hpp"
@@ -203,12 +202,7 @@ TEST(SphHeatOwnStep, TakesSubstepsWhereItsBoundIsShorterThanTheStep) {
 TEST(SphMeshTray, AHeatedMeshTrayGivesTheSeriesHeatAsTheAnalyticTrayDoes) {
   const auto dir = std::filesystem::temp_directory_path() / "bakesim_sph_mesh_tray";
   std::filesystem::create_directories(dir);
-  {
-    std::ofstream f(dir / "tray.obj");
-    f << "v -0.04 -0.006 -0.04\nv 0.04 -0.006 -0.04\nv 0.04 0 -0.04\nv -0.04 0 -0.04\n"
-         "v -0.04 -0.006 0.04\nv 0.04 -0.006 0.04\nv 0.04 0 0.04\nv -0.04 0 0.04\n"
-         "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 4 8 7 3\nf 1 5 8 4\nf 2 3 7 6\n";
-  }
+  test_support::write_box_obj((dir / "tray.obj").string(), Vec3(-0.04, -0.006, -0.04), Vec3(0.04, 0, 0.04));
   const json analytic = slab_on_tray("sph");
   json mesh = analytic;
   mesh["colliders"][0]["shape"] = {{"type", "mesh"}, {"file", (dir / "tray.obj").string()}};
