@@ -260,7 +260,6 @@ void SphSolver::seed_particles() {
   }
   face_outside_.assign(total, 0);
   face_share_.assign(total, 0);
-  contact_scale_.assign(total, 1);
   face_coefficient_.assign(total, 0);
   std::size_t k = 0;
   for (std::size_t bi = 0; bi < setup_.bodies.size(); ++bi) {

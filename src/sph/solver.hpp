@@ -203,6 +203,8 @@ class SphSolver final : public Solver {
   void phase_browning(Real dt);
   // The profile from particle i to the face it turns to the oven (physics/heat.hpp).
   CrustFace crust_face(std::size_t i) const;
+  // The area a surface particle turns to a collider over its area V |∇C| / S (heat phase).
+  Real contact_area_scale(std::size_t i) const;
   void phase_water(Real dt);
   // The temperature curves only when `temperature_changed`; the rise state and yield-stress viscosity every step.
   void phase_properties(bool temperature_changed = true);
@@ -318,9 +320,6 @@ class SphSolver final : public Solver {
   std::vector<std::array<Real, 3>> step_book_;                          // per step: latent J, boiled kg, clamped kg
   std::vector<Real> face_outside_, face_coefficient_;  // heat phase: what a surface particle faces (°C, W/(m² K))
   std::vector<Real> face_share_;  // heat phase: the share of its area facing the oven air (not a collider)
-  // Surface phase: the density with the walls' term over the summed density
-  // (≥ 1); the heat phase's shares against colliders take the area times it.
-  std::vector<Real> contact_scale_;
   std::vector<Real> particle_k_;  // heat phase with moisture: k + the closed-cell heat pipe, W/(m K)
 
   ParticleSet particles_;

@@ -369,9 +369,10 @@ TEST(Mpm, EveryPointOfABodyThatFillsTheDomainIsKept) {
   // (the solver used to drop those within two cells of a face).
   const Real dx = 0.02;
   const json box = {{"type", "box"}, {"min", {0, 0, 0}}, {"max", {0.2, 0.1, 0.1}}};
-  json doc = base_scene(dx, {{"jelly", {{"density", 1000.0}, {"youngs_modulus", 1e4}, {"poisson_ratio", 0.3}}}},
-                        json::array({{{"name", "filler"}, {"material", "jelly"}, {"shape", box}}}), {0, 0, 0},
-                        {0.2, 0.1, 0.1}, {0, -9.81, 0});
+  json doc =
+      base_scene(dx, {{"jelly", {{"density", 1000.0}, {"youngs_modulus", 1e4}, {"poisson_ratio", 0.3}}}},
+                 json::array({{{"name", "filler"}, {"material", "jelly"}, {"shape", box}}}), {0, 0, 0}, {0.2, 0.1, 0.1},
+                 {0, -9.81, 0});
   auto s = make_mpm(doc);
   // 8 per cell, 2 per axis: (10·2) × (5·2) × (5·2) points.
   EXPECT_EQ(s->particles().size(), std::size_t(20 * 10 * 10));
@@ -381,15 +382,15 @@ TEST(Mpm, EveryPointOfABodyThatFillsTheDomainIsKept) {
 }
 
 TEST(Mpm, ABodyReachingOutOfTheDomainIsAnErrorNamingIt) {
-  json doc =
-      base_scene(0.02, {{"jelly", {{"density", 1000.0}, {"youngs_modulus", 1e4}, {"poisson_ratio", 0.3}}}},
-                 json::array({{{"name", "inside"},
-                               {"material", "jelly"},
-                               {"shape", {{"type", "box"}, {"min", {0.02, 0.02, 0.02}}, {"max", {0.08, 0.08, 0.08}}}}},
-                              {{"name", "poking-out"},
-                               {"material", "jelly"},
-                               {"shape", {{"type", "box"}, {"min", {0.1, 0.02, 0.02}}, {"max", {0.25, 0.08, 0.08}}}}}}),
-                 {0, 0, 0}, {0.2, 0.1, 0.1}, {0, -9.81, 0});
+  json doc = base_scene(
+      0.02, {{"jelly", {{"density", 1000.0}, {"youngs_modulus", 1e4}, {"poisson_ratio", 0.3}}}},
+      json::array({{{"name", "inside"},
+                    {"material", "jelly"},
+                    {"shape", {{"type", "box"}, {"min", {0.02, 0.02, 0.02}}, {"max", {0.08, 0.08, 0.08}}}}},
+                   {{"name", "poking-out"},
+                    {"material", "jelly"},
+                    {"shape", {{"type", "box"}, {"min", {0.1, 0.02, 0.02}}, {"max", {0.25, 0.08, 0.08}}}}}}),
+      {0, 0, 0}, {0.2, 0.1, 0.1}, {0, -9.81, 0});
   try {
     make_mpm(doc);
     FAIL() << "a body reaching out of the domain was accepted";
@@ -407,12 +408,12 @@ namespace {
 // along −x: its mean displacement after 0.1 s.
 Real hanging_displacement(Real offset) {
   const Real dx = 0.01, b = 0.05;
-  json doc =
-      base_scene(dx, {{"jelly", {{"density", 1000.0}, {"youngs_modulus", 1e5}, {"poisson_ratio", 0.3}}}},
-                 json::array({{{"name", "block"},
-                               {"material", "jelly"},
-                               {"shape", {{"type", "box"}, {"min", {-0.05, -b, -0.03}}, {"max", {0.05, b, 0.03}}}}}}),
-                 {-0.15, -0.08, -0.05}, {0.15, 0.08, 0.05}, {-9.81, 0, 0});
+  json doc = base_scene(
+      dx, {{"jelly", {{"density", 1000.0}, {"youngs_modulus", 1e5}, {"poisson_ratio", 0.3}}}},
+      json::array({{{"name", "block"},
+                    {"material", "jelly"},
+                    {"shape", {{"type", "box"}, {"min", {-0.05, -b, -0.03}}, {"max", {0.05, b, 0.03}}}}}}),
+      {-0.15, -0.08, -0.05}, {0.15, 0.08, 0.05}, {-9.81, 0, 0});
   doc["colliders"] =
       json::array({{{"name", "lower"},
                     {"shape", {{"type", "plane"}, {"point", {0, -b - offset, 0}}, {"normal", {0, 1, 0}}}},

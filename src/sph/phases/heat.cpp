@@ -172,70 +172,62 @@ void SphSolver::phase_heat(Real dt, bool& weights_ready) {
         // outward normal and its share is the same projection on the normals
         // of the faces hit. (Before, a particle touching a heated collider gave
         // it its whole area: the slab's bottom edge gave the tray its sides.)
-        const Real len = colour_grad_[i].norm();
-        const Vec3 inward = len > 0 ? Vec3(colour_grad_[i] / len) : Vec3::Zero();
-        auto facing = [&](const Vec3& normal) {
-          return len > 0 ? std::clamp(inward.dot(normal), Real(0), Real(1)) : Real(1);
-        };
-        Real insulated = 0, heated = 0, largest = 0;
-        Real collider_outside = air, collider_coefficient = 0;
-        SurfaceExchange toward;  // the heated colliders' parts (their mean coefficient and outside)
-        auto add_heated = [&](Real part, Real outside, Real coefficient) {
-          if (!(part > 0)) return;
-          heated += part;
-          toward.add(part, coefficient, outside);
-          if (part > largest) largest = part, collider_outside = outside, collider_coefficient = coefficient;
-        };
+        // A surface particle's area is V |∇C| / S > 0, so its normal exists.
+        const Vec3 inward = colour_grad_[i].normalized();
+        Real insulated = 0;
+        SurfaceExchange toward;  // the heated colliders' parts: Σ share β and Σ share β θ
+        Real heated = 0;         // Σ share
         for (std::size_t ci = kDomainWall + 1; ci < walls_.size(); ++ci) {
           const Collider& c = walls_[ci];
           Real part = 0;
-          for_each_wall_of(ci, x_[i], touch,
-                           [&](const WallContact& w, const Vec3&) { part = std::max(part, facing(w.normal)); });
-          if (!c.temperature)
+          for_each_wall_of(ci, x_[i], touch, [&](const WallContact& w, const Vec3&) {
+            part = std::max(part, std::clamp(inward.dot(w.normal), Real(0), Real(1)));
+          });
+          if (!(part > 0)) continue;
+          if (!c.temperature) {
             insulated = std::max(insulated, part);
-          else
-            add_heated(part, wall_temperatures_[ci], c.heat_transfer_coefficient);
+          } else {
+            heated += part;
+            toward.add(part, c.heat_transfer_coefficient, wall_temperatures_[ci]);
+          }
         }
-        if (heated_colliders_ && len > 0) {
+        if (heated_colliders_) {
           for (std::size_t ci = 0; ci < meshes_.size(); ++ci) {
             const Collider& c = meshes_[ci];
             if (!c.temperature) continue;
-            const Vec3 out = -inward;
             const SegmentHit hit =
-                mesh_segment_hits(std::get<MeshCollider>(c.geometry), x_[i], x_[i] + touch * out, 0.0);
+                mesh_segment_hits(std::get<MeshCollider>(c.geometry), x_[i], x_[i] - touch * inward, 0.0);
             if (hit.hits == 0) continue;
             const Real nn = hit.normal_sum.norm();
-            add_heated(nn > 0 ? std::abs(out.dot(hit.normal_sum) / nn) : Real(1), mesh_temperatures_[ci],
-                       c.heat_transfer_coefficient);
+            const Real part = nn > 0 ? std::abs(inward.dot(hit.normal_sum) / nn) : Real(1);
+            heated += part;
+            toward.add(part, c.heat_transfer_coefficient, mesh_temperatures_[ci]);
           }
         }
-        // A corner against two heated faces gives them all of its area (the
-        // parts summed, at most one), at their parts' mean coefficient and outside.
-        const Real parts = heated;
+        // The colliders' mean coefficient and temperature over their parts; a
+        // corner against two heated faces gives them all of its area (the
+        // parts summed, at most one).
+        const Real collider_beta = heated > 0 ? toward.conductance / heated : 0;
+        const Real collider_outside = toward.conductance > 0 ? toward.drive / toward.conductance : air;
         heated = std::min(heated, Real(1));
         const Real air_share = std::max(Real(0), 1 - heated - insulated);
         face_share_[i] = air_share;
         if (!(air_share > 0) && !(heated > 0)) return;  // against insulating walls all round: no exchange
         air_facing_[i] = air_share > 0 && air_share >= heated;
-        // The face the browning reads: the larger of the air's and the collider's.
-        const bool collider_face = heated > air_share;
-        face_outside_[i] = collider_face ? collider_outside : air;
-        face_coefficient_[i] = collider_face ? collider_coefficient : oven.surface_coefficient(temperature_[i], air);
         const Real capacity = m_[i] * setup_.materials[material_[i]].specific_heat;
         const Real before = temperature_[i];
+        const Real air_beta = oven.surface_coefficient(before, air);
+        // The face the browning reads: the larger of the air's and the colliders'.
+        const bool collider_face = heated > air_share;
+        face_outside_[i] = collider_face ? collider_outside : air;
+        face_coefficient_[i] = collider_face ? collider_beta : air_beta;
         // Each face takes β (θ_out − θ_f) and passes it to the particle through its half-layer.
         const CrustFace face = crust_face(i);
         SurfaceExchange exchange;
-        if (air_share > 0) {
-          const Real coefficient = oven.surface_coefficient(before, air);
-          exchange.add(air_share * area_[i], face.coefficient_to_centre(before, air, coefficient), air);
-        }
-        if (heated > 0 && toward.conductance > 0) {
-          const Real beta = toward.conductance / parts, outside = toward.drive / toward.conductance;
-          // The area turned to the collider, on the summed density (surface phase).
-          exchange.add(heated * area_[i] * contact_scale_[i], face.coefficient_to_centre(before, outside, beta),
-                       outside);
-        }
+        if (air_share > 0) exchange.add(air_share * area_[i], face.coefficient_to_centre(before, air, air_beta), air);
+        if (heated > 0 && collider_beta > 0)
+          exchange.add(heated * area_[i] * contact_area_scale(i),
+                       face.coefficient_to_centre(before, collider_outside, collider_beta), collider_outside);
         if (!(exchange.conductance > 0)) return;  // coefficients of zero (no air exchange in the scene)
         temperature_[i] = SurfaceExchange::relax(before, exchange.drive / exchange.conductance, exchange.conductance,
                                                  1.0, capacity, dt_bake);
@@ -258,6 +250,20 @@ CrustFace SphSolver::crust_face(std::size_t i) const {
     heat_pipe = pw.cell_conductivity(temperature_[i], x, pw.expanded_gas_fraction(mi.rest_density / rho_[i]));
   }
   return pw.crust_face(0.5 * std::cbrt(volume_[i]), x, water, mi.conductivity, mi.conductivity + heat_pipe);
+}
+
+// The area S is calibrated on a free face, whose volumes m/ρ come from the
+// summed density alone. Near a wall the density has the wall half-space's mass
+// too (the wall density correction): right for the area a particle turns to the
+// air, where the wall stands in for the material beside the face as a
+// continued face's particles would, but 15% short for the area it turns to the
+// wall itself (a slab's layer on its tray: 3.40e-6 against 4.00e-6 m² at 2 mm
+// spacing). Its shares against colliders take the area times this ratio, the
+// corrected density over the summed one (≥ 1).
+Real SphSolver::contact_area_scale(std::size_t i) const {
+  if (!setup_.settings.wall_density_correction) return 1;
+  const Real summed = rho_[i] - setup_.materials[material_[i]].rest_density * wall_share(x_[i], nullptr);
+  return summed > 0 ? rho_[i] / summed : 1;
 }
 
 // Crust colour (Zanoni et al. 1995, physics/browning.hpp) on the bake clock.

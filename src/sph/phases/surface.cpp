@@ -134,26 +134,10 @@ void SphSolver::phase_surface(bool flags) {
   // and 7–9% too little on a curved one): by the co-area formula Σ V |∇C| over
   // the surface layer is the area it holds of the colour's drop; divided by that
   // share on a flat face, the areas sum to the surface's (docs/physics.md).
-  // The share S is that of a free face, whose volumes m/ρ come from the
-  // summed density alone. A particle near a wall has the wall half-space's
-  // mass in its density (the wall density correction): right for the area it
-  // turns to the air, where the wall stands in for the material beside the
-  // face as a continued face's particles would, but 15% short for the area
-  // it turns to the wall itself (a slab's layer on its tray: 3.40e-6 against
-  // 4.00e-6 m² at 2 mm spacing). The heat phase scales its collider shares by
-  // contact_scale_, the corrected density over the summed one.
   const Real inv_share = 1.0 / colour_share_;
-  const bool wall_corr = s.wall_density_correction;
   parallel_for(
-      n,
-      [&](std::size_t i) {
-        contact_scale_[i] = 1.0;
-        area_[i] = surface_[i] ? m_[i] / rho_[i] * colour_grad_[i].norm() * inv_share : 0.0;
-        if (!surface_[i] || !wall_corr) return;
-        const Real summed = rho_[i] - setup_.materials[material_[i]].rest_density * wall_share(x_[i], nullptr);
-        if (summed > 0) contact_scale_[i] = rho_[i] / summed;
-      },
-      1024);
+      n, [&](std::size_t i) { area_[i] = surface_[i] ? m_[i] / rho_[i] * colour_grad_[i].norm() * inv_share : 0.0; },
+      4096);
 }
 
 }  // namespace bakesim::sph
