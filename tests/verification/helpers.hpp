@@ -167,4 +167,42 @@ inline double plane_wall_energy_fraction(double biot, double fourier) {
   return 1 - sum;
 }
 
+// The mean of (T − T∞)/(T0 − T∞) over the same wall (1 − Q/Q0).
+inline double plane_wall_mean(double biot, double fourier) { return 1 - plane_wall_energy_fraction(biot, fourier); }
+
+// The first roots of ζ J1(ζ) = Bi J0(ζ) (the infinite cylinder's eigenvalues),
+// by a scan for sign changes and bisection (the function has no poles).
+inline std::vector<double> infinite_cylinder_roots(double biot, int count) {
+  const auto f = [biot](double z) { return z * std::cyl_bessel_j(1.0, z) - biot * std::cyl_bessel_j(0.0, z); };
+  std::vector<double> roots;
+  double a = 1e-9, fa = f(a);
+  for (double b = 0.01; int(roots.size()) < count; b += 0.01) {
+    const double fb = f(b);
+    if ((fa > 0) != (fb > 0)) {
+      double lo = a, hi = b;
+      for (int it = 0; it < 100; ++it) {
+        const double mid = 0.5 * (lo + hi);
+        ((f(mid) > 0) == (f(lo) > 0) ? lo : hi) = mid;
+      }
+      roots.push_back(0.5 * (lo + hi));
+    }
+    a = b, fa = fb;
+  }
+  return roots;
+}
+
+// Infinite cylinder of radius R, initially uniform, exchanging through h at
+// r = R (Incropera Eq 5.49–5.50): (T − T∞)/(T0 − T∞) = Σ C_n exp(−ζ_n² Fo)
+// J0(ζ_n r/R), C_n = (2/ζ_n) J1(ζ_n) / (J0²(ζ_n) + J1²(ζ_n)), Fo = α t/R²;
+// `mean`: its average over the cross-section, Σ C_n exp(−ζ_n² Fo) 2 J1(ζ_n)/ζ_n.
+inline double infinite_cylinder(double biot, double fourier, double r_over_r0, bool mean = false) {
+  double sum = 0;
+  for (double z : infinite_cylinder_roots(biot, 40)) {
+    const double j0 = std::cyl_bessel_j(0.0, z), j1 = std::cyl_bessel_j(1.0, z);
+    const double c = 2 / z * j1 / (j0 * j0 + j1 * j1);
+    sum += c * std::exp(-z * z * fourier) * (mean ? 2 * j1 / z : std::cyl_bessel_j(0.0, z * r_over_r0));
+  }
+  return sum;
+}
+
 }  // namespace bakesim::test_support

@@ -16,7 +16,8 @@ namespace bakesim::mpm {
 // With heat (spec 4.2, 4.3, 4.6): θ_i = E_i / M_i advanced by the explicit
 // rate, Δθ_i kept for the FLIP transfer; the boundary area of the node
 // a_i = Δx³ |∇φ|, φ = V_i / Δx³ by central differences (Σ a_i is the surface
-// area for any smooth profile of φ), exchanging (physics/heat.hpp,
+// area for any smooth profile of φ; a neighbour without material gives its
+// half of the difference to the node, so no area is lost), exchanging (physics/heat.hpp,
 // SurfaceExchange) with a hot collider within 3 Δx of the node through the
 // part of the area vector Δx³ ∇φ that faces it, and with the air through the
 // rest; water: the ratio r_i = Δt ΔW_i / W_i, never below −1 (water is never
@@ -64,10 +65,19 @@ void MpmSolver::phase_grid(Real dt) {
           const HeatSums* sums = heat ? &heat_sums_[k] : nullptr;
           const bool exchange = heat && inner && sums->heat_capacity > 0 && sums->volume > 0;
           Vec3 area = Vec3::Zero();
-          if (exchange)
-            area = (0.5 * inv_dx_) * Vec3(heat_sums_[k + syz].volume - heat_sums_[k - syz].volume,
-                                          heat_sums_[k + nz].volume - heat_sums_[k - nz].volume,
-                                          heat_sums_[k + 1].volume - heat_sums_[k - 1].volume);
+          if (exchange) {
+            // Each difference between neighbouring nodes is shared half and half by the two, and a
+            // neighbour without material (which takes no exchange) gives its half to this node: so
+            // every face's area lands on nodes that hold material, wherever the face lies between
+            // nodes (a face half a cell off a node plane lost the outer node's share: a 40 mm cube
+            // in 4 mm cells took in 6% less heat than with its faces on node planes).
+            const Real v = sums->volume;
+            const std::size_t step[3] = {syz, nz, 1};
+            for (int axis = 0; axis < 3; ++axis) {
+              const Real below = heat_sums_[k - step[axis]].volume, above = heat_sums_[k + step[axis]].volume;
+              area[axis] = (0.5 * inv_dx_) * ((above - v) * (above > 0 ? 1 : 2) + (v - below) * (below > 0 ? 1 : 2));
+            }
+          }
           SurfaceExchange hot;  // the parts facing hot colliders
           Real hot_area = 0;
           bool near = false;
