@@ -14,8 +14,8 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
-#include <vector>
 #include <tuple>
+#include <vector>
 
 #include "helpers.hpp"
 #include "mpm/solver.hpp"

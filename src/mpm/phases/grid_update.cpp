@@ -17,8 +17,8 @@ namespace bakesim::mpm {
 // rate, Δθ_i kept for the FLIP transfer; the boundary area of the node
 // a_i = Δx³ |∇φ|, φ = V_i / Δx³ by central differences (Σ a_i is the surface
 // area for any smooth profile of φ; a neighbour without material gives its
-// half of the difference to the node, so no area is lost), exchanging (physics/heat.hpp,
-// SurfaceExchange) with a hot collider within 3 Δx of the node through the
+// half of the difference to the node, so no area is lost), exchanging
+// (physics/heat.hpp, SurfaceExchange) with a hot collider within 3 Δx of the node through the
 // part of the area vector Δx³ ∇φ that faces it, and with the air through the
 // rest; water: the ratio r_i = Δt ΔW_i / W_i, never below −1 (water is never
 // negative; what was asked beyond that is counted as clamped), and the
@@ -70,7 +70,8 @@ void MpmSolver::phase_grid(Real dt) {
             // neighbour without material (which takes no exchange) gives its half to this node: so
             // every face's area lands on nodes that hold material, wherever the face lies between
             // nodes (a face half a cell off a node plane lost the outer node's share: a 40 mm cube
-            // in 4 mm cells took in 6% less heat than with its faces on node planes).
+            // in 4 mm cells took in 15% too little heat in its first 3 minutes of bake, 7% with its
+            // faces on node planes; tests/verification/test_body_heat.cpp).
             const Real v = sums->volume;
             const std::size_t step[3] = {syz, nz, 1};
             for (int axis = 0; axis < 3; ++axis) {
