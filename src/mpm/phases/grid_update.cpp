@@ -18,11 +18,12 @@ namespace bakesim::mpm {
 // a_i = Δx³ |∇φ|, φ = V_i / Δx³ by central differences (Σ a_i is the surface
 // area for any smooth profile of φ; a neighbour without material gives its
 // half of the difference to the node, so no area is lost), exchanging
-// (physics/heat.hpp, SurfaceExchange) with a hot collider within 3 Δx of the node through the
-// part of the area vector Δx³ ∇φ that faces it, and with the air through the
-// rest; water: the ratio r_i = Δt ΔW_i / W_i, never below −1 (water is never
-// negative; what was asked beyond that is counted as clamped), and the
-// saturation s_i for the next flux.
+// (physics/heat.hpp, SurfaceExchange) with a hot collider within 3 Δx of the
+// node through the part of the area vector Δx³ ∇φ that faces it (all of it
+// for a node inside the collider), and with the air through the rest; water:
+// the ratio r_i = Δt ΔW_i / W_i, never below −1 (water is never negative; what
+// was asked beyond that is counted as clamped), and the saturation s_i for the
+// next flux.
 void MpmSolver::phase_grid(Real dt) {
   ScopedPhase t(timers_, t_grid_);
   const Vec3 origin = grid_origin_;
@@ -89,8 +90,12 @@ void MpmSolver::phase_grid(Real dt) {
             near = near || w.distance < 2 * dx_;
             if (exchange && w.distance < 3 * dx_) {
               const Vec3 n = pose.rotation * w.normal;
-              const Real facing = std::max(Real(0), area.dot(n));
-              area -= facing * n;
+              // A node inside the solid holds only the spread of faces that lie against it: all of
+              // its area faces the collider (its nearest face's normal need not be the one the
+              // material touches: inside a thin wall standing on a floor it is the floor's).
+              const bool inside = w.distance < -on_face;
+              const Real facing = inside ? area.norm() : std::max(Real(0), area.dot(n));
+              area = inside ? Vec3::Zero() : Vec3(area - facing * n);
               if (c.temperature) {
                 hot.add(facing, c.heat_transfer_coefficient, collider_temperatures_[ci]);
                 hot_area += facing;
