@@ -79,6 +79,15 @@ double heat_in(const Solver& s) {
   return 0;
 }
 
+// The mechanics time at which the slab of conductivity k reaches Fourier number fo.
+double time_at(double fo, double k) { return fo * kThick * kThick / (k / (kRho * kCp)) / kClock; }
+
+// The heat the plane-wall series lets into the slab by fo (J): conductivity k, heated through β.
+double series_heat(double fo, double k, double beta) {
+  const double q_max = kRho * kCp * kSide * kSide * kThick * (kTray - kStart);
+  return q_max * test_support::plane_wall_energy_fraction(beta * kThick / k, fo);
+}
+
 // Bakes the slab (on the tray, or in the pan) to Fo 0.083, 0.25 and 0.5 and
 // compares the heat in with the series at the Biot number of what heats it.
 void expect_series_heat(const std::string& solver, bool pan) {
@@ -86,11 +95,9 @@ void expect_series_heat(const std::string& solver, bool pan) {
   const std::unique_ptr<Solver> owned = solver == "sph" ? std::unique_ptr<Solver>(test_support::make_sph(scene))
                                                         : std::unique_ptr<Solver>(test_support::make_mpm(scene));
   Solver& s = *owned;
-  const double alpha = kK / (kRho * kCp), biot = (pan ? kAirBeta : kBeta) * kThick / kK;
-  const double q_max = kRho * kCp * kSide * kSide * kThick * (kTray - kStart);
   for (double fo : {0.083, 0.25, 0.5}) {
-    test_support::advance_to(s, fo * kThick * kThick / alpha / kClock);
-    const double ratio = heat_in(s) / (q_max * test_support::plane_wall_energy_fraction(biot, fo));
+    test_support::advance_to(s, time_at(fo, kK));
+    const double ratio = heat_in(s) / series_heat(fo, kK, pan ? kAirBeta : kBeta);
     ::testing::Test::RecordProperty("ratio_fo_" + std::to_string(int(fo * 1000)), std::to_string(ratio));
     EXPECT_NEAR(ratio, 1.0, 0.05) << solver << " at Fo " << fo;
   }
@@ -103,13 +110,10 @@ void expect_series_heat(const std::string& solver, bool pan) {
 template <class OnStep>
 void expect_heat_beside(Solver& a, Solver& b, double k, const std::string& name, const std::string& other,
                         double pair_tolerance, OnStep&& on_step) {
-  const double alpha = k / (kRho * kCp), biot = kBeta * kThick / k;
-  const double q_max = kRho * kCp * kSide * kSide * kThick * (kTray - kStart);
   for (double fo : {0.083, 0.25, 0.5}) {
-    const double t = fo * kThick * kThick / alpha / kClock;
-    test_support::advance_to(a, t, [&] { on_step(a); });
-    test_support::advance_to(b, t, [&] { on_step(b); });
-    const double series = q_max * test_support::plane_wall_energy_fraction(biot, fo);
+    test_support::advance_to(a, time_at(fo, k), [&] { on_step(a); });
+    test_support::advance_to(b, time_at(fo, k), [&] { on_step(b); });
+    const double series = series_heat(fo, k, kBeta);
     const std::string at = "fo_" + std::to_string(int(fo * 1000));
     ::testing::Test::RecordProperty(name + "_" + at, std::to_string(heat_in(a) / series));
     ::testing::Test::RecordProperty(name + "_over_" + other + "_" + at, std::to_string(heat_in(a) / heat_in(b)));
@@ -139,8 +143,8 @@ TEST_P(SlabOnAHotTray, TakesInThePlaneWallSeriesHeat) { expect_series_heat(GetPa
 // 0.5 since a node inside a collider gives it all of its area (+3.0 / +4.3 /
 // +3.7% before: nodes inside the thin walls, whose nearest face is the floor's,
 // kept the spread of the side faces for the air; +4.5 / +5.7 / +4.9% with
-// that and no area lost beside empty nodes), SPH at 2 mm −3.6 / −0.5 / +0.7% (−3.8 / −0.8 / +0.4% before the area
-// split; −0.2 / +2.9 / +3.8% when the air's share also left out the wall's
+// that and no area lost beside empty nodes), SPH at 2 mm −3.6 / −0.5 / +0.7%
+// (−3.8 / −0.8 / +0.4% before the area split; −0.2 / +2.9 / +3.8% when the air's share also left out the wall's
 // density term, which its top edges against the pan's walls need).
 TEST_P(SlabOnAHotTray, InAnInsulatingPanTakesInOnlyThroughItsTop) { expect_series_heat(GetParam(), true); }
 
