@@ -104,7 +104,7 @@ Vec3 up_direction(const Scene& scene) {
 }  // namespace
 
 FrameRecorder::FrameRecorder(const Scene& scene, const Solver& solver) : scene_(scene) {
-  if (solver.heats()) bake_.emplace(solver.particles(), scene.bodies.size());
+  if (solver.heats()) bake_.emplace(solver.particles(), scene.bodies.size(), scene.oven.boiling_point());
   columns_ = {"time",
               "steps",
               "dt",

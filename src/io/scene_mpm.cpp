@@ -8,7 +8,7 @@ namespace bakesim::scene_parts {
 
 namespace {
 
-mpm::Material build_material(const Ctx& c, const std::string& name, const json& m) {
+mpm::Material build_material(const Ctx& c, const std::string& name, const json& m, const Oven& oven) {
   const std::string mpath = "materials." + name;
   mpm::Material mat;
   mat.name = name;
@@ -62,7 +62,7 @@ mpm::Material build_material(const Ctx& c, const std::string& name, const json& 
   mat.water.diffusivity = wj["diffusivity"].get<double>();
   mat.water.evaporation_rate = wj["evaporation_rate"].get<double>();
   mat.water.stiffness = wj["stiffness"].get<double>();
-  mat.moisture = build_pore_water(m);
+  mat.moisture = build_pore_water(m, oven);
   if (mat.moisture.active()) {
     // One water per material: moisture's liquid is carried as the paper's water
     // (its pressure, its Fick diffusion), its vapour and latent heat come in addition.
@@ -143,7 +143,7 @@ mpm::Setup build_mpm_setup(const Ctx& c, const json& doc, const SceneParts& part
   st.heat_tolerance = mj["heat_tolerance"].get<double>();
   st.heat_max_iterations = mj["heat_max_iterations"].get<int>();
   for (const std::string& name : parts.material_names)
-    setup.materials.push_back(build_material(c, name, doc["materials"][name]));
+    setup.materials.push_back(build_material(c, name, doc["materials"][name], parts.world.oven));
   for (std::size_t i = 0; i < parts.bodies.size(); ++i) {
     mpm::Body body;
     static_cast<BodyBase&>(body) = parts.bodies[i];

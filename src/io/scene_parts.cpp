@@ -176,10 +176,15 @@ Oven build_oven(const Ctx& c, const json& env) {
   oven.air_vapour_density = env["air_vapour_density"].get<double>();
   if (!env["mass_transfer_coefficient"].is_null())
     oven.mass_transfer_coefficient = env["mass_transfer_coefficient"].get<double>();
+  const bool pressure_given = !env["air_pressure"].is_null(), altitude_given = !env["altitude"].is_null();
+  if (pressure_given && altitude_given)
+    c.fail("environment.altitude", "give the air pressure or the altitude, not both (environment.air_pressure is set)");
+  if (pressure_given) oven.air_pressure = env["air_pressure"].get<double>();
+  if (altitude_given) oven.air_pressure = standard_atmosphere_pressure(env["altitude"].get<double>());
   return oven;
 }
 
-PoreWater build_pore_water(const json& material) {
+PoreWater build_pore_water(const json& material, const Oven& oven) {
   const json& w = material["moisture"];
   PoreWater p;
   p.moisture = w["content"].get<double>();
@@ -190,7 +195,8 @@ PoreWater build_pore_water(const json& material) {
   p.cell_heat_pipe = w["cell_heat_pipe"].get<double>();
   if (!w["dry_conductivity"].is_null()) p.dry_conductivity = w["dry_conductivity"].get<double>();
   p.latent_heat = w["latent_heat"].get<double>();
-  p.boiling_point = w["boiling_point"].get<double>();
+  p.air_pressure = oven.air_pressure;
+  p.boiling_point = w["boiling_point"].is_null() ? oven.boiling_point() : w["boiling_point"].get<double>();
   const json& s = w["sorption"];
   p.sorption.oswin_a_slope = s["oswin_a_slope"].get<double>();
   p.sorption.oswin_a_offset = s["oswin_a_offset"].get<double>();

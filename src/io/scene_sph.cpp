@@ -16,7 +16,7 @@ sph::BubbleDistribution parse_distribution(const std::string& s) {
   return sph::BubbleDistribution::uniform;
 }
 
-sph::Material build_material(const Ctx& c, const std::string& name, const json& m) {
+sph::Material build_material(const Ctx& c, const std::string& name, const json& m, const Oven& oven) {
   const std::string path = "materials." + name;
   sph::Material mat;
   mat.name = name;
@@ -31,7 +31,7 @@ sph::Material build_material(const Ctx& c, const std::string& name, const json& 
   mat.relaxation_time = build_curve(c, path + ".relaxation_time", m["relaxation_time"]);
   if (std::visit([](const auto& curve) { return curve(-273.15) <= 0 || curve(2000.0) <= 0; }, mat.relaxation_time))
     c.fail(path + ".relaxation_time", "must stay above 0 s at every temperature");
-  mat.moisture = build_pore_water(m);
+  mat.moisture = build_pore_water(m, oven);
   if (m.contains("herschel_bulkley")) {
     const json& hb = m["herschel_bulkley"];
     sph::Material::YieldFlow flow;
@@ -128,7 +128,7 @@ sph::Settings build_settings(const Ctx& c, const json& doc) {
 sph::Setup build_sph_setup(const Ctx& c, json& doc, const SceneParts& parts) {
   sph::Setup setup;
   for (const std::string& name : parts.material_names)
-    setup.materials.push_back(build_material(c, name, doc["materials"][name]));
+    setup.materials.push_back(build_material(c, name, doc["materials"][name], parts.world.oven));
   Real max_initial_speed = 0;
   for (std::size_t i = 0; i < parts.bodies.size(); ++i) {
     const json& b = doc["bodies"][i];

@@ -7,6 +7,7 @@
 // `bake_time_scale` times faster than the mechanics, so a real bake of
 // scale × T seconds is simulated in T seconds of mechanics. Schedules (the
 // air's, the colliders') are given in bake time.
+#include <cmath>
 #include <cstddef>
 #include <optional>
 #include <vector>
@@ -19,6 +20,15 @@
 
 namespace bakesim {
 
+// Air pressure (Pa) at an altitude (m above sea level) in the ICAO/ISO 2533
+// standard atmosphere's troposphere: p = p₀ (1 − L h / T₀)^(g M / (R L)) with
+// p₀ 101,325 Pa, T₀ 288.15 K, lapse rate L 0.0065 K/m (89.9 kPa at 1,000 m,
+// 79.5 kPa at 2,000 m). The day's weather moves it by about ±1.5 kPa.
+inline Real standard_atmosphere_pressure(Real altitude) {
+  constexpr Real kLapse = 0.0065, kSeaLevelKelvin = 288.15, kExponent = 5.25588;  // g M / (R L)
+  return kAtmosphere * std::pow(1 - kLapse * altitude / kSeaLevelKelvin, kExponent);
+}
+
 struct Oven {
   PiecewiseLinear air_temperature = PiecewiseLinear::constant(20.0);  // °C over bake time (s)
   Real heat_transfer_coefficient = 10.0;                              // β of the air, W/(m² K)
@@ -30,7 +40,11 @@ struct Oven {
   BrowningKinetics browning;                      // crust colour from the temperature history
   Real air_vapour_density = 0;                    // ρ_v of the oven air, kg/m³
   std::optional<Real> mass_transfer_coefficient;  // h_m, m/s (none: Chilton–Colburn from h)
+  // The air's pressure, Pa: where free water boils (99.2 °C at 235 m, 95.0 °C
+  // at about 1,500 m) and how fast vapour diffuses and leaves.
+  Real air_pressure = kAtmosphere;
 
+  Real boiling_point() const { return boiling_point_at(air_pressure); }
   // Bake time at simulated time t, and the bake-time length of a mechanics step.
   Real bake_time(Real time) const { return time * bake_time_scale; }
   Real bake_step(Real dt) const { return dt * bake_time_scale; }
@@ -44,7 +58,8 @@ struct Oven {
   // h_m (m/s) of vapour leaving a moist surface at simulated time t (physics/water.hpp).
   Real mass_transfer_at(Real time) const {
     return mass_transfer_coefficient ? *mass_transfer_coefficient
-                                     : bakesim::mass_transfer_coefficient(heat_transfer_coefficient, air_at(time));
+                                     : bakesim::mass_transfer_coefficient(heat_transfer_coefficient, air_at(time),
+                                                                          0.85, air_pressure);
   }
 };
 

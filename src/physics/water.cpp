@@ -26,15 +26,20 @@ Real saturation_vapour_pressure(Real celsius) {
   return kMmHg * std::exp(std::numbers::ln10 * (k.a - k.b / (k.c + celsius)));
 }
 
-namespace {
-// θ where p_sat(θ) = p (Pa): the Antoine equation solved for θ on the branch
-// that holds it (pressures in the 0.6% gap between the branches at 100 °C: 100).
+// The Antoine equation solved for θ on the branch that holds it (pressures in
+// the 0.6% gap between the branches at 100 °C: 100).
 Real saturation_temperature(Real pressure) {
   const Real log_mmhg = std::log10(pressure / kMmHg);
   const Real low = kLow.b / (kLow.a - log_mmhg) - kLow.c;
   if (low < 100) return low;
   return std::max(kHigh.b / (kHigh.a - log_mmhg) - kHigh.c, Real(100));
 }
+
+Real boiling_point_at(Real pressure) {
+  return 100 + (saturation_temperature(pressure) - saturation_temperature(kAtmosphere));
+}
+
+namespace {
 constexpr Real kHottestBoiling = 370;  // °C, below water's critical point (374 °C)
 }  // namespace
 
@@ -171,8 +176,7 @@ Real PoreWater::cell_conductivity(Real celsius, Real moisture_now, Real phi) con
   const Real tk = std::max(celsius, Real(-50)) + kZeroCelsius;
   const Real p = saturation_vapour_pressure(celsius), dp = slope_of_saturation_pressure(p, celsius);
   const Real drho_sat = kWaterMolarMass / (kGasConstant * tk) * (dp - p / tk);  // d(p M / R T)/dθ
-  const Real free_diffusivity = vapour_diffusivity * power_1_75(tk / 298.15);
-  return cell_heat_pipe * phi * latent_heat * free_diffusivity * sorption.activity(moisture_now, celsius) * drho_sat;
+  return cell_heat_pipe * phi * latent_heat * free_vapour_diffusivity(tk) * sorption.activity(moisture_now, celsius) * drho_sat;
 }
 
 Real PoreWater::effective_diffusivity(Real celsius, Real moisture_now, Real heat_capacity_density,

@@ -46,6 +46,12 @@ inline constexpr Real kAirSpecificHeat = 1012.0;   // J/(kg K), dry air at 100�
 Real saturation_vapour_pressure(Real celsius);
 // d p_sat / dθ, Pa/K.
 Real saturation_vapour_pressure_slope(Real celsius);
+// θ (°C) where p_sat(θ) = p (Pa): the same Antoine equation solved for θ.
+Real saturation_temperature(Real pressure);
+// The boiling point of free water under the pressure p (Pa), °C: the Antoine
+// curve's saturation temperature, shifted by its 0.003 K error at 1 atm so that
+// water boils at exactly 100 °C there (95.0 °C at 84.6 kPa, about 1,500 m up).
+Real boiling_point_at(Real pressure);
 // r^1.75 = r √(r √r) (the temperature law of vapour diffusivity, every
 // particle every step: two square roots cost less than pow).
 inline Real power_1_75(Real r) { return r * std::sqrt(r * std::sqrt(r)); }
@@ -74,7 +80,8 @@ struct PoreWater {
   Real cell_heat_pipe = 1;               // share of the closed-cell heat pipe (below), 0–1
   std::optional<Real> dry_conductivity;  // k of the dried dough (crust), W/(m K); none: the material's
   Real latent_heat = kLatentHeatAt100;   // h_fg, J/kg
-  Real boiling_point = 100;              // θ_b, °C
+  Real boiling_point = 100;              // θ_b, °C: boiling_point_at(the oven's air pressure) unless the scene gives it
+  Real air_pressure = kAtmosphere;       // p of the pore gas (the oven's air), Pa: D_v ∝ 1/p
   SorptionIsotherm sorption;
 
   bool active() const { return moisture > 0; }
@@ -105,7 +112,11 @@ struct PoreWater {
   // φ_g D_eff(θ), the coefficient of q_v = −(φ_g D) ∇ρ_v, m²/s.
   Real vapour_conductance(Real celsius, Real phi) const {
     const Real tk = std::max(celsius, Real(-50)) + kZeroCelsius;
-    return phi * vapour_diffusivity * power_1_75(tk / 298.15) / tortuosity;
+    return phi * free_vapour_diffusivity(tk) / tortuosity;
+  }
+  // D_v of vapour in air at T_K and the air's pressure (binary diffusion goes as T^1.75 / p).
+  Real free_vapour_diffusivity(Real kelvin) const {
+    return vapour_diffusivity * power_1_75(kelvin / 298.15) * (kAtmosphere / air_pressure);
   }
   Real vapour_conductance(Real celsius) const { return vapour_conductance(celsius, gas_fraction); }
   // The closed-cell heat pipe, W/(m K): in each gas cell of moist dough water
@@ -209,10 +220,11 @@ inline PhaseChange condense_and_boil(const PoreWater& pw, Real heat_capacity, Re
 
 // Surface mass transfer coefficient h_m (m/s) from the heat transfer
 // coefficient by the Chilton–Colburn analogy, h_m = h / (ρ_air c_p,air Le^(2/3)),
-// with the dry air's density at the oven temperature and 1 atm.
-inline Real mass_transfer_coefficient(Real heat_transfer_coefficient, Real air_celsius, Real lewis_number = 0.85) {
+// with the dry air's density at the oven temperature and pressure (1 atm unless given).
+inline Real mass_transfer_coefficient(Real heat_transfer_coefficient, Real air_celsius, Real lewis_number = 0.85,
+                                      Real air_pressure = kAtmosphere) {
   const Real tk = std::max(air_celsius, Real(-50)) + kZeroCelsius;
-  const Real rho_air = kAtmosphere * kAirMolarMass / (kGasConstant * tk);
+  const Real rho_air = air_pressure * kAirMolarMass / (kGasConstant * tk);
   return heat_transfer_coefficient / (rho_air * kAirSpecificHeat * std::pow(lewis_number, 2.0 / 3.0));
 }
 

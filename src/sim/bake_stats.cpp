@@ -10,8 +10,8 @@ namespace bakesim {
 
 namespace {
 
-// Dough at or past the boiling point (100 °C, less round-off of the boiling cap) has dried there: crust.
-constexpr Real kCrustFromCelsius = 99.5;
+// Dough at or past the boiling point, less round-off of the boiling cap, has dried there: crust.
+constexpr Real kCrustBelowBoiling = 0.5;  // K
 
 const std::vector<Real>* area_attribute(const ParticleSet& ps) {
   if (ps.has("air_area")) return &ps.scalar("air_area");
@@ -21,8 +21,9 @@ const std::vector<Real>* area_attribute(const ParticleSet& ps) {
 
 }  // namespace
 
-BakeStatistics::BakeStatistics(const ParticleSet& initial, std::size_t bodies)
+BakeStatistics::BakeStatistics(const ParticleSet& initial, std::size_t bodies, Real boiling_point)
     : bodies_(bodies),
+      crust_from_celsius_(boiling_point - kCrustBelowBoiling),
       water_(initial.has("water_mass")),
       moisture_(water_ && initial.has("moisture") && initial.has("mass")),
       co2_(initial.has("co2") && initial.has("initial_volume")),
@@ -114,7 +115,7 @@ std::vector<BodyBake> BakeStatistics::compute(const ParticleSet& ps) const {
           if (co2) s.co2 += (*co2)[i] * (*volume0)[i];
           if (moisture) {
             const Real x = (*moisture)[i], x0 = initial_moisture_[body[i]], v = volume(i);
-            if (x0 > 0 && t[i] >= kCrustFromCelsius) s.dried_volume += v * std::clamp(1 - x / x0, Real(0), Real(1));
+            if (x0 > 0 && t[i] >= crust_from_celsius_) s.dried_volume += v * std::clamp(1 - x / x0, Real(0), Real(1));
             // The particle's outer share: its exchange area over its cross-section (MPM gives interior
             // points specks of area from the noise of the grid's boundary field).
             const Real outer = area && v > 0 ? std::min(Real(1), (*area)[i] / std::cbrt(v * v)) : Real(0);

@@ -36,8 +36,10 @@ struct BodyBake {
 class BakeStatistics {
  public:
   // `initial`: the particles before the first step (their water is the
-  // reference for the moisture loss); `bodies`: how many bodies there are.
-  BakeStatistics(const ParticleSet& initial, std::size_t bodies);
+  // reference for the moisture loss); `bodies`: how many bodies there are;
+  // `boiling_point`: where the oven's free water boils, °C (the crust is the
+  // dough dried at or past it).
+  BakeStatistics(const ParticleSet& initial, std::size_t bodies, Real boiling_point = 100);
   bool has_water() const { return water_; }
   bool has_moisture() const { return moisture_; }
   bool has_co2() const { return co2_; }
@@ -49,6 +51,7 @@ class BakeStatistics {
 
  private:
   std::size_t bodies_;
+  Real crust_from_celsius_;
   bool water_ = false, moisture_ = false, co2_ = false;
   std::vector<Real> initial_water_, initial_mass_, initial_moisture_;
 };

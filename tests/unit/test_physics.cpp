@@ -5,6 +5,7 @@
 
 #include "physics/curves.hpp"
 #include "physics/food_properties.hpp"
+#include "physics/oven.hpp"
 
 using namespace bakesim;
 
@@ -64,4 +65,15 @@ TEST(FoodProperties, MixturesFollowTheSeriesAndParallelRules) {
   EXPECT_NEAR(airy.density, 0.8 * 954.88, 0.05);
   EXPECT_DOUBLE_EQ(airy.specific_heat, p.specific_heat);
   EXPECT_NEAR(airy.conductivity, 0.8 * 0.38059 + 0.2 * 0.026, 5e-5);
+}
+
+// ICAO standard atmosphere (ISO 2533) tabulated pressures, Pa.
+TEST(Oven, AltitudeGivesTheStandardAtmospheresPressureAndItsBoilingPoint) {
+  EXPECT_DOUBLE_EQ(standard_atmosphere_pressure(0), 101325.0);
+  const std::pair<double, double> table[] = {{-500, 107477}, {1000, 89875}, {2000, 79495}, {3000, 70108}};
+  for (const auto& [metres, pascal] : table) EXPECT_NEAR(standard_atmosphere_pressure(metres), pascal, 3.0) << metres;
+  Oven oven;
+  EXPECT_DOUBLE_EQ(oven.boiling_point(), 100.0);
+  oven.air_pressure = standard_atmosphere_pressure(2000);
+  EXPECT_NEAR(oven.boiling_point(), 93.4, 0.1);  // steam tables: 93.3 degC at 79.5 kPa
 }

@@ -1053,3 +1053,24 @@ TEST(Scene, SphDivergenceFreePressureRefusesBubblesAndReadsItsTolerances) {
   doc["solver"]["sph"]["pressure_solver"] = "iisph";
   expect_error(doc, {"solver.sph.pressure_solver"});
 }
+
+// The oven's air pressure (or the altitude, through the standard atmosphere) sets where the
+// materials' water boils, unless a material gives its own boiling point.
+TEST(Scene, AltitudeOrAirPressureSetsTheBoilingPoint) {
+  json d = base_scene();
+  d["materials"]["water"]["moisture"] = {{"content", 0.5}};
+  EXPECT_DOUBLE_EQ(parse_scene(d.dump(), "scene.json", ".").sph.materials[0].moisture.boiling_point, 100.0);
+  d["environment"] = {{"altitude", 2000.0}};
+  Scene s = parse_scene(d.dump(), "scene.json", ".");
+  EXPECT_NEAR(s.oven.air_pressure, 79495, 3);
+  EXPECT_NEAR(s.sph.materials[0].moisture.boiling_point, 93.4, 0.1);
+  EXPECT_NEAR(s.sph.materials[0].moisture.air_pressure, 79495, 3);
+  d["environment"] = {{"air_pressure", 84609.0}};
+  EXPECT_NEAR(parse_scene(d.dump(), "scene.json", ".").sph.materials[0].moisture.boiling_point, 95.0, 0.1);
+  d["materials"]["water"]["moisture"]["boiling_point"] = 98.0;
+  EXPECT_DOUBLE_EQ(parse_scene(d.dump(), "scene.json", ".").sph.materials[0].moisture.boiling_point, 98.0);
+  d["environment"]["altitude"] = 500.0;
+  expect_error(d, {"scene.json: environment.altitude", "not both"});
+  d["environment"] = {{"altitude", 12000.0}};
+  expect_error(d, {"environment.altitude"});
+}

@@ -26,6 +26,28 @@ TEST(Water, SaturationPressureFollowsTheSteamTablesWithinOnePercent) {
   EXPECT_NEAR(saturation_vapour_pressure_slope(99.9), 3616, 0.03 * 3616);  // steam tables: 3.62 kPa/K
 }
 
+TEST(Water, BoilingPointFollowsTheSteamTablesUnderThePressure) {
+  // Free water boils where p_sat(θ) is the air's pressure: exactly 100 degC at 1 atm, and at the
+  // IAPWS-IF97 saturation temperatures of lower and higher pressures (kPa).
+  EXPECT_DOUBLE_EQ(boiling_point_at(kAtmosphere), 100.0);
+  const std::pair<double, double> table[] = {{47.416, 80}, {70.183, 90}, {84.609, 95}, {143.38, 110}};
+  for (const auto& [kpa, celsius] : table) EXPECT_NEAR(boiling_point_at(1000 * kpa), celsius, 0.1) << kpa << " kPa";
+  // The same equation both ways.
+  for (const double c : {60.0, 93.0, 99.0})
+    EXPECT_NEAR(saturation_temperature(saturation_vapour_pressure(c)), c, 1e-9) << c;
+}
+
+TEST(Water, LowerAirPressureSpeedsTheVapourAndItsSurfaceTransfer) {
+  // Binary diffusion goes as 1/p (Chapman–Enskog), and the Chilton–Colburn h_m as 1/ρ_air.
+  PoreWater sea, up;
+  up.air_pressure = 0.8 * kAtmosphere;
+  EXPECT_NEAR(up.vapour_conductance(80) / sea.vapour_conductance(80), 1.25, 1e-12);
+  sea.moisture = up.moisture = 0.5;
+  EXPECT_NEAR(up.cell_conductivity(80, 0.5, 0.6) / sea.cell_conductivity(80, 0.5, 0.6), 1.25, 1e-12);
+  EXPECT_NEAR(mass_transfer_coefficient(10, 190, 0.85, 0.8 * kAtmosphere) / mass_transfer_coefficient(10, 190), 1.25,
+              1e-12);
+}
+
 TEST(Water, PowerOneAndThreeQuartersIsPowsWithinRoundOff) {
   // The vapour diffusivity's (T/298.15)^1.75 with square roots, over the bake's range (-50 to 300 degC).
   for (const double r : {0.7, 0.9, 1.0, 1.25, 1.5, 1.9})

@@ -236,3 +236,42 @@ TEST_P(WaterBudgets, WaterAndEnergyCloseMoistDoughStaysAtBoilingAndTheCrustDries
 }
 
 INSTANTIATE_TEST_SUITE_P(BothSolvers, WaterBudgets, ::testing::Values("sph", "mpm"));
+
+// High up, water boils lower: the same block baked at 2,000 m (79.5 kPa in the standard
+// atmosphere, where the steam tables put the boiling point at 93.3 degC) stops its moist dough
+// there instead of at 100 degC, and the crust statistics count the dough dried at that point.
+class WaterAtAltitude : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(WaterAtAltitude, MoistDoughStopsAtTheBoilingPointOfTheAirsPressure) {
+  json doc = block_scene(GetParam());
+  doc["environment"]["altitude"] = 2000.0;
+  doc["environment"]["mass_transfer_coefficient"] = 0.0;  // water leaves at the boiling front only
+  const Scene scene = parse_scene(doc.dump(), "scene.json", ".");
+  const double boiling = scene.oven.boiling_point();
+  EXPECT_NEAR(boiling, 93.4, 0.1);
+  const PoreWater& water = GetParam() == "sph" ? scene.sph.materials[0].moisture : scene.mpm.materials[0].moisture;
+  EXPECT_DOUBLE_EQ(water.boiling_point, boiling);
+  std::unique_ptr<Solver> solver = make_solver(scene);
+  const ParticleSet start_particles = solver->particles();
+  double hottest_moist = -1e9, past_line = -1e9;
+  test_support::advance_to(*solver, 0.15, [&] {  // 5 bake minutes
+    const auto& ps = solver->particles();
+    for (std::size_t i = 0; i < ps.size(); ++i) {
+      const double x = ps.scalar("moisture")[i], t = ps.scalar("temperature")[i];
+      // Moist enough that its water is free (a_w > 0.99 with the default isotherm).
+      if (x > 0.45) hottest_moist = std::max(hottest_moist, t);
+      if (x > 0) past_line = std::max(past_line, t - water.boiling_temperature(x));
+    }
+  });
+  const BodyBake bake = BakeStatistics(start_particles, 1, boiling).compute(solver->particles())[0];
+  std::printf("%s at 2,000 m: free-water dough at most %.2f degC (boils at %.2f), %+.2g K from its line at most, "
+              "crust %.2f mm\n",
+              GetParam().c_str(), hottest_moist, boiling, past_line, 1e3 * bake.crust_thickness);
+  RecordProperty("hottest_moist", std::to_string(hottest_moist));
+  EXPECT_LE(hottest_moist, boiling + 0.3);  // not 100 degC
+  EXPECT_GE(hottest_moist, boiling - 0.3);  // and the outer dough has reached it
+  EXPECT_LE(past_line, 0.01);               // bound water on the boiling line of this pressure
+  EXPECT_GT(bake.crust_thickness, 0.0);
+}
+
+INSTANTIATE_TEST_SUITE_P(BothSolvers, WaterAtAltitude, ::testing::Values("sph", "mpm"));
