@@ -57,9 +57,9 @@ struct Oven {
   }
   // h_m (m/s) of vapour leaving a moist surface at simulated time t (physics/water.hpp).
   Real mass_transfer_at(Real time) const {
-    return mass_transfer_coefficient ? *mass_transfer_coefficient
-                                     : bakesim::mass_transfer_coefficient(heat_transfer_coefficient, air_at(time),
-                                                                          0.85, air_pressure);
+    return mass_transfer_coefficient
+               ? *mass_transfer_coefficient
+               : bakesim::mass_transfer_coefficient(heat_transfer_coefficient, air_at(time), 0.85, air_pressure);
   }
 };
 

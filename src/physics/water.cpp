@@ -11,7 +11,12 @@ struct Antoine {
   Real a, b, c;
 };
 constexpr Antoine kLow{8.07131, 1730.63, 233.426}, kHigh{8.14019, 1810.94, 244.485};
-const Antoine& antoine_for(Real celsius) { return celsius < 100 ? kLow : kHigh; }
+// Where the two branches give the same pressure (143.0 kPa): switching there keeps p_sat continuous.
+// Switched at 100 °C, where they differ by 0.55%, the boiling line of bound water jumped there, and
+// a particle whose line crossed 100 °C (a boiling point below 100: altitude) boiled off its water
+// and fell 6 K below its line in one step.
+constexpr Real kBranchesMeet = 108.26631;
+const Antoine& antoine_for(Real celsius) { return celsius < kBranchesMeet ? kLow : kHigh; }
 // d p_sat/dθ from p_sat itself (one exponential for both).
 Real slope_of_saturation_pressure(Real pressure, Real celsius) {
   const Antoine& k = antoine_for(celsius);
@@ -26,13 +31,12 @@ Real saturation_vapour_pressure(Real celsius) {
   return kMmHg * std::exp(std::numbers::ln10 * (k.a - k.b / (k.c + celsius)));
 }
 
-// The Antoine equation solved for θ on the branch that holds it (pressures in
-// the 0.6% gap between the branches at 100 °C: 100).
+// The Antoine equation solved for θ on the branch that holds it.
 Real saturation_temperature(Real pressure) {
   const Real log_mmhg = std::log10(pressure / kMmHg);
   const Real low = kLow.b / (kLow.a - log_mmhg) - kLow.c;
-  if (low < 100) return low;
-  return std::max(kHigh.b / (kHigh.a - log_mmhg) - kHigh.c, Real(100));
+  if (low < kBranchesMeet) return low;
+  return kHigh.b / (kHigh.a - log_mmhg) - kHigh.c;
 }
 
 Real boiling_point_at(Real pressure) {
@@ -176,7 +180,8 @@ Real PoreWater::cell_conductivity(Real celsius, Real moisture_now, Real phi) con
   const Real tk = std::max(celsius, Real(-50)) + kZeroCelsius;
   const Real p = saturation_vapour_pressure(celsius), dp = slope_of_saturation_pressure(p, celsius);
   const Real drho_sat = kWaterMolarMass / (kGasConstant * tk) * (dp - p / tk);  // d(p M / R T)/dθ
-  return cell_heat_pipe * phi * latent_heat * free_vapour_diffusivity(tk) * sorption.activity(moisture_now, celsius) * drho_sat;
+  return cell_heat_pipe * phi * latent_heat * free_vapour_diffusivity(tk) * sorption.activity(moisture_now, celsius) *
+         drho_sat;
 }
 
 Real PoreWater::effective_diffusivity(Real celsius, Real moisture_now, Real heat_capacity_density,

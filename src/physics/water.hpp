@@ -40,9 +40,10 @@ inline constexpr Real kAirSpecificHeat = 1012.0;   // J/(kg K), dry air at 100�
 // Saturation vapour pressure of water (Pa) at θ °C: the Antoine equation,
 // log₁₀ p[mmHg] = A − B / (C + θ), with the constants for 1–100 °C
 // (A 8.07131, B 1730.63, C 233.426) and for 99–374 °C (A 8.14019, B 1810.94,
-// C 244.485) (Dortmund Data Bank constants as tabulated for water), switched at
-// 100 °C; both stay within 1% of the IAPWS-IF97 saturation line from 20 to
-// 180 °C (tests/unit/test_water.cpp) and differ by 0.6% at the switch.
+// C 244.485) (Dortmund Data Bank constants as tabulated for water), switched
+// where they meet, at 108.27 °C, so that p_sat is continuous; it stays within
+// 1% of the IAPWS-IF97 saturation line from 20 to 180 °C and within 0.4% up to
+// 120 °C (tests/unit/test_water.cpp).
 Real saturation_vapour_pressure(Real celsius);
 // d p_sat / dθ, Pa/K.
 Real saturation_vapour_pressure_slope(Real celsius);
@@ -80,8 +81,8 @@ struct PoreWater {
   Real cell_heat_pipe = 1;               // share of the closed-cell heat pipe (below), 0–1
   std::optional<Real> dry_conductivity;  // k of the dried dough (crust), W/(m K); none: the material's
   Real latent_heat = kLatentHeatAt100;   // h_fg, J/kg
-  Real boiling_point = 100;              // θ_b, °C: boiling_point_at(the oven's air pressure) unless the scene gives it
-  Real air_pressure = kAtmosphere;       // p of the pore gas (the oven's air), Pa: D_v ∝ 1/p
+  Real boiling_point = 100;         // θ_b, °C: boiling_point_at(the oven's air pressure) unless the scene gives it
+  Real air_pressure = kAtmosphere;  // p of the pore gas (the oven's air), Pa: D_v ∝ 1/p
   SorptionIsotherm sorption;
 
   bool active() const { return moisture > 0; }

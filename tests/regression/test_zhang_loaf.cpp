@@ -142,9 +142,11 @@ INSTANTIATE_TEST_SUITE_P(BothSolvers, ZhangLoaf, ::testing::Values("mpm", "sph")
 // (validation-data/breadbakingfoam_own_experiment_1min.csv), scenes/tin-loaf-mpm.json
 // at 8 mm cells (the scene's 4 mm gives the same plateaus, point1 RMS 5.0 degC:
 // docs/validation.md). The thermocouples are fixed in the tin, so the probes
-// sample at fixed points. Asserted: every probe plateaus between 97 and
-// 100.5 degC over the last three measured minutes and never passes 100.5; the
-// probe under the top crust (point1) follows its measured curve; the water lost
+// sample at fixed points. The scene bakes at the laboratory's altitude (Prague,
+// 235 m: free water boils at 99.2 degC). Asserted: every probe plateaus between
+// 97 and 100 degC over the last three measured minutes (the band) and
+// never passes 100 (at sea level the moist crumb's bound water held them at
+// 100.1-100.6); the probe under the top crust (point1) follows its measured curve; the water lost
 // is in this model's band (measured 15.1%). Not asserted: the probes near the
 // floor and at mid-height heat 7-11 minutes early against the measurement
 // (docs/validation.md).
@@ -182,8 +184,8 @@ TEST(TinLoaf, ProbesPlateauBelowTheBoilingPointAndTheTopProbeFollowsItsMeasuredC
     const double rms = std::sqrt(sum / double(rows.size()));
     std::printf("tin loaf %s: RMS %.1f degC, plateau %.2f degC, hottest %.2f degC\n", names[p], rms, plateau, hottest);
     EXPECT_GE(plateau, 97.0) << names[p];
-    EXPECT_LE(plateau, 100.5) << names[p];
-    EXPECT_LE(hottest, 100.5) << names[p];
+    EXPECT_LE(plateau, 100.0) << names[p];
+    EXPECT_LE(hottest, 100.0) << names[p];
     if (p == 0) {
       EXPECT_LE(rms, 8.0) << names[p];
     }

@@ -48,6 +48,37 @@ TEST(Water, LowerAirPressureSpeedsTheVapourAndItsSurfaceTransfer) {
               1e-12);
 }
 
+TEST(Water, SaturationPressureIsContinuousWhereItsTwoBranchesMeet) {
+  const double meet = 108.26631;
+  EXPECT_NEAR(saturation_vapour_pressure(meet + 1e-7) / saturation_vapour_pressure(meet - 1e-7), 1.0, 1e-6);
+  EXPECT_NEAR(saturation_vapour_pressure(100 + 1e-9) / saturation_vapour_pressure(100 - 1e-9), 1.0, 1e-9);
+}
+
+TEST(Water, BoundWaterBoilsOntoItsLineWhenTheBoilingPointIsBelow100) {
+  // At 235 m (98.5 kPa, water boils at 99.2 degC) the boiling line of bound water crosses 100 degC:
+  // X_b falls smoothly through it, and a particle boiled from just above its line ends on the line
+  // of the water it keeps (with the branches switched at 100 degC, X_b jumped from 0.309 to 0.284
+  // there and dough at X = 0.30 ended 6 K below its line, at 94 degC).
+  PoreWater pw;
+  pw.moisture = 0.56;
+  pw.boiling_point = boiling_point_at(98534);
+  EXPECT_NEAR(pw.boiling_point, 99.22, 0.01);
+  double previous = pw.boiling_moisture(99.5);
+  for (double t = 99.55; t < 101.0; t += 0.05) {
+    const double x = pw.boiling_moisture(t);
+    EXPECT_LT(x, previous) << t;
+    EXPECT_GT(x, 0.93 * previous) << t;  // no jump
+    previous = x;
+  }
+  const double mass = 1e-6, dry = pw.dry_mass(mass), heat_capacity = 1892 * mass;
+  for (const double x : {0.33, 0.31, 0.30, 0.29}) {
+    const double line = pw.boiling_temperature(x);
+    const Boiling b = boil_bound(pw, heat_capacity, line + 0.05, x * dry, dry);
+    EXPECT_NEAR(b.temperature, pw.boiling_temperature(b.water / dry), 1e-6) << x;
+    EXPECT_GT(b.temperature, line) << x;
+  }
+}
+
 TEST(Water, PowerOneAndThreeQuartersIsPowsWithinRoundOff) {
   // The vapour diffusivity's (T/298.15)^1.75 with square roots, over the bake's range (-50 to 300 degC).
   for (const double r : {0.7, 0.9, 1.0, 1.25, 1.5, 1.9})

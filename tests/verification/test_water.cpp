@@ -264,9 +264,10 @@ TEST_P(WaterAtAltitude, MoistDoughStopsAtTheBoilingPointOfTheAirsPressure) {
     }
   });
   const BodyBake bake = BakeStatistics(start_particles, 1, boiling).compute(solver->particles())[0];
-  std::printf("%s at 2,000 m: free-water dough at most %.2f degC (boils at %.2f), %+.2g K from its line at most, "
-              "crust %.2f mm\n",
-              GetParam().c_str(), hottest_moist, boiling, past_line, 1e3 * bake.crust_thickness);
+  std::printf(
+      "%s at 2,000 m: free-water dough at most %.2f degC (boils at %.2f), %+.2g K from its line at most, "
+      "crust %.2f mm\n",
+      GetParam().c_str(), hottest_moist, boiling, past_line, 1e3 * bake.crust_thickness);
   RecordProperty("hottest_moist", std::to_string(hottest_moist));
   EXPECT_LE(hottest_moist, boiling + 0.3);  // not 100 degC
   EXPECT_GE(hottest_moist, boiling - 0.3);  // and the outer dough has reached it
