@@ -574,6 +574,9 @@ std::string describe(const Scene& scene, Solver& solver) {
       scene.oven.emissivity > 0
           ? fmt::format(", wall radiation at emissivity {:g} (walls at the air's temperature)", scene.oven.emissivity)
           : std::string(", no wall radiation"));
+  if (scene.oven.air_pressure != kAtmosphere)
+    out += fmt::format("           air pressure {:.1f} kPa: free water boils at {:.1f} degC\n",
+                       scene.oven.air_pressure / 1000, scene.oven.boiling_point());
   out += solver.summary();
   out += fmt::format("probes     {}\n", scene.probes.size());
   const Real dt = solver.max_stable_dt();

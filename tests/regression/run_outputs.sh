@@ -70,6 +70,8 @@ printf '{"extends": "%s", "name": "warm", "environment": {"air_temperature": 60}
 check '[ $? -eq 0 ] && grep -q "^extends    .*good_small.json" "$OUT/warm-validate.txt"' "validate names the base a variant extends"
 "$BAKESIM" validate "$ROOT/tests/data/good_small.json" --set environment.air_temperature=200 --set environment.emissivity=0.9 > "$OUT/oven-validate.txt"
 check 'grep -q "^oven       air 200 degC, h 10 W/(m^2 K), wall radiation at emissivity 0.9" "$OUT/oven-validate.txt"' "validate says the oven: air, coefficient, wall radiation"
+"$BAKESIM" validate "$ROOT/tests/data/good_small.json" --set environment.altitude=2000 > "$OUT/altitude-validate.txt"
+check 'grep -q "air pressure 79.5 kPa: free water boils at 93.4 degC" "$OUT/altitude-validate.txt"' "validate says where water boils at the scene's altitude"
 "$BAKESIM" validate "$OUT/variants/warm.json" --resolved > "$OUT/warm-resolved.json"
 check 'grep -q "\"air_temperature\": 60" "$OUT/warm-resolved.json" && ! grep -q extends "$OUT/warm-resolved.json"' "validate --resolved prints the merged scene"
 (cd "$OUT/variants" && "$BAKESIM" run warm.json --out "$OUT/warm" --end-time 0.02 --quiet)
