@@ -21,6 +21,10 @@ rows=$(($(wc -l < "$OUT/measured.csv") - 2))
 check '[ $? -eq 0 ] && grep -qx "$OUT/run/report.html" "$OUT/report.txt"' "report writes RUN_DIR/report.html"
 check '[ -z "$(grep -o "src=\"[^d][^\"]*\"\|href=\|url(" "$OUT/run/report.html")" ]' "the page needs no other file (pictures inline, no links)"
 check 'grep -q "wall radiation</th><td>none<" "$OUT/run/report.html"' "the scene table says whether the oven walls radiate"
+check '! grep -q "air pressure</th>" "$OUT/run/report.html"' "a sea-level bake's scene table has no air-pressure row"
+"$BAKESIM" run "$ROOT/scenes/cookie.json" --preview --end-time 0.05 --set environment.altitude=1000 --out "$OUT/high" --quiet &&
+  "$BAKESIM" report "$OUT/high" >/dev/null 2>&1
+check 'grep -q "air pressure</th><td>89.9 kPa (1000 m up): free water boils at 96.7 °C<" "$OUT/high/report.html"' "the scene table names the altitude's pressure and boiling point"
 sed "s|REPORT|file://$OUT/run/report.html|" "$ROOT/tests/regression/report_check.html" > "$OUT/check.html"
 timeout 120 "$CHROMIUM" --headless --no-sandbox --disable-gpu --disable-dev-shm-usage --allow-file-access-from-files --virtual-time-budget=10000 \
   --dump-dom "file://$OUT/check.html" 2>/dev/null | sed -n '/<pre/,/<\/pre>/p' | sed 's/<[^>]*>//g' > "$OUT/seen.txt"
