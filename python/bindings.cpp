@@ -313,6 +313,7 @@ py::dict results_of(const render::RunResults& r) {
   d["air_end_C"] = r.air_end;
   d["heat_in_kJ"] = r.heat_in_kilojoules;
   d["wall_s"] = r.wall_seconds;
+  d["done_C"] = r.done_degc;
   py::dict bodies;
   for (const auto& b : r.bodies) {
     py::dict k;

@@ -249,7 +249,7 @@ std::vector<fs::path> plot_run(const fs::path& run_dir) {
     // The doneness line of the report and the sweep (render/run_results.hpp), where the run has a core.
     bool has_core = false;
     for (const auto& n : t.names) has_core = has_core || starts(n, "core_temperature:");
-    if (has_core && !x.empty()) temps.series.push_back(doneness_series(x.front(), x.back()));
+    if (has_core && !x.empty()) temps.series.push_back(doneness_series(x.front(), x.back(), done_core_degc(run_dir)));
   } else if (const auto* mean = t.column("mean_temperature")) {
     temps.series.push_back({"mean", x, *mean});
     if (const auto* mx = t.column("max_temperature")) temps.series.push_back({"max", x, *mx});

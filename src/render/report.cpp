@@ -448,7 +448,7 @@ ReportResult write_report_of(const fs::path& run_dir, const ReportOptions& o) {
 
   // Key numbers.
   h += "<h2>Results</h2>\n<table id=\"results\">\n<tr><th>body</th><th>core reaches " +
-       fmt::format("{:g}", kDoneCoreDegC) +
+       fmt::format("{:.3g}", r.done_degc) +
        " °C at</th><th>core at the end</th><th>crust at the end</th><th>rise (volume)</th><th>height</th>"
        "<th>moisture loss</th><th>weight loss</th><th>crust (moisture; crumb's)</th></tr>\n";
   for (const BodyResults& b : r.bodies) {
@@ -539,7 +539,7 @@ ReportResult write_report_of(const fs::path& run_dir, const ReportOptions& o) {
   }
   if (!temps.series.empty()) {
     if (const auto* air = t.column("air_temperature")) temps.series.push_back({"oven air", minutes, *air, {}, true});
-    const Series done = doneness_series(minutes.front(), minutes.back());
+    const Series done = doneness_series(minutes.front(), minutes.back(), r.done_degc);
     temps.series.push_back({done.name, done.x, done.y, {}, true, false, "#555555"});
   }
   for (const Measured& m : measured)

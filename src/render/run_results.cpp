@@ -8,6 +8,7 @@
 
 #include "core/errors.hpp"
 #include "io/files.hpp"
+#include "physics/oven.hpp"
 
 namespace bakesim::render {
 
@@ -23,8 +24,23 @@ double first_crossing(const std::vector<double>& t, const std::vector<double>& v
   return NAN;
 }
 
-Series doneness_series(double from, double to) {
-  return {fmt::format("done ({:g} °C)", kDoneCoreDegC), {from, to}, {kDoneCoreDegC, kDoneCoreDegC}, true};
+double done_core_degc(double boiling_point) { return std::min(kDoneCoreDegC, boiling_point - 5.0); }
+
+double done_core_degc(const fs::path& run_dir) {
+  try {
+    const nlohmann::json env =
+        nlohmann::json::parse(read_file(run_dir / "scene.json")).value("environment", nlohmann::json());
+    if (env.contains("altitude") && env["altitude"].is_number())
+      return done_core_degc(boiling_point_at(standard_atmosphere_pressure(env["altitude"].get<double>())));
+    if (env.contains("air_pressure") && env["air_pressure"].is_number())
+      return done_core_degc(boiling_point_at(env["air_pressure"].get<double>()));
+  } catch (const std::exception&) {
+  }
+  return kDoneCoreDegC;
+}
+
+Series doneness_series(double from, double to, double level) {
+  return {fmt::format("done ({:.3g} °C)", level), {from, to}, {level, level}, true};
 }
 
 RunResults read_run_results(const fs::path& run_dir) {
@@ -43,6 +59,7 @@ RunResults read_run_results(const fs::path& run_dir) {
   if (const auto* air = t.column("air_temperature")) r.air_end = air->back();
   if (const auto* heat = t.column("heat_in")) r.heat_in_kilojoules = heat->back() / 1000.0;
   if (const auto* wall = t.column("wall_time")) r.wall_seconds = wall->back();
+  r.done_degc = done_core_degc(run_dir);
   try {
     r.scene_name = nlohmann::json::parse(read_file(run_dir / "scene.json")).value("name", "");
   } catch (const std::exception&) {
@@ -58,7 +75,7 @@ RunResults read_run_results(const fs::path& run_dir) {
     if (const auto* core = t.column("core_temperature:" + b.name)) {
       b.heated = true;
       b.core_end = core->back();
-      b.minutes_to_done = first_crossing(bake, *core, kDoneCoreDegC) / 60.0;
+      b.minutes_to_done = first_crossing(bake, *core, r.done_degc) / 60.0;
     }
     if (const auto* crust = t.column("crust_temperature:" + b.name)) b.crust_end = crust->back();
     if (const auto* loss = t.column("moisture_loss_percent:" + b.name)) b.moisture_loss_percent = loss->back();

@@ -10,18 +10,25 @@
 
 namespace bakesim::render {
 
-// The core temperature at which a bake counts as done (bread crumb sets and
-// is safe at 93-96 °C; the report draws it as the doneness line).
+// The core temperature at which a bake counts as done at sea level (bread
+// crumb sets and is safe at 93-96 °C; the report draws it as the doneness line).
 inline constexpr double kDoneCoreDegC = 95.0;
+// Where the oven's air pressure lowers the boiling point (altitude), the
+// moist crumb stops lower: done is 5 K below where free water boils there
+// (88.5 °C at 2,000 m), never above kDoneCoreDegC.
+double done_core_degc(double boiling_point);
+// The level of a run directory, from its scene.json's environment (sea level
+// when it names no altitude or air pressure, or cannot be read).
+double done_core_degc(const std::filesystem::path& run_dir);
 
-// The doneness line of the plots: kDoneCoreDegC from `from` to `to` (bake minutes), dashed.
-Series doneness_series(double from, double to);
+// The doneness line of the plots at `level` °C from `from` to `to` (bake minutes), dashed.
+Series doneness_series(double from, double to, double level = kDoneCoreDegC);
 
 struct BodyResults {
   std::string name;
   bool heated = false;                                // the run has core and crust columns for it
   double core_end = NAN, crust_end = NAN;             // °C
-  double minutes_to_done = NAN;                       // bake minutes for the core to reach kDoneCoreDegC; NaN: never
+  double minutes_to_done = NAN;                       // bake minutes for the core to reach done_degc; NaN: never
   double volume_ratio = NAN;                          // last frame / first frame
   double height_start = NAN, height_end = NAN;        // m
   double moisture_loss_percent = NAN;                 // NaN: the run carries no water
@@ -38,6 +45,7 @@ struct RunResults {
   double air_end = NAN;             // oven air at the last frame, °C
   double heat_in_kilojoules = NAN;  // heat in through the surfaces (stats.csv heat_in), kJ
   double wall_seconds = NAN;
+  double done_degc = kDoneCoreDegC;  // the core temperature counted as done (done_core_degc)
   std::vector<BodyResults> bodies;
   std::vector<double> minutes;  // per stats.csv row: minutes of bake (simulated minutes without a bake clock)
   Table stats;                  // stats.csv as read

@@ -35,7 +35,7 @@ struct Measure {
 const Measure kMeasures[] = {
     {"core_degC", "core °C", 1, [](const BodyResults& b) { return b.core_end; }},
     {"crust_degC", "crust °C", 1, [](const BodyResults& b) { return b.crust_end; }},
-    {"minutes_to_95degC", "core 95 °C at (min)", 1, [](const BodyResults& b) { return b.minutes_to_done; }},
+    {"minutes_to_done", "core done at (min)", 1, [](const BodyResults& b) { return b.minutes_to_done; }},
     {"volume_ratio", "volume ×", 2, [](const BodyResults& b) { return b.volume_ratio; }},
     {"height_cm", "height cm", 2, [](const BodyResults& b) { return b.height_end * 100; }},
     {"moisture_loss_percent", "moisture loss %", 1, [](const BodyResults& b) { return b.moisture_loss_percent; }},
@@ -112,6 +112,13 @@ SweepOutputs write_sweep_outputs(const fs::path& dir, const std::vector<SweepAxi
     if (any_heat) md += " | " + (res ? cell(res->heat_in_kilojoules, 1) : "");
     md += " | " + (res ? cell(res->wall_seconds, 0) : "") + " |\n";
   }
+  // What "done" meant: the core at 95 °C, lower where the air's pressure lowers the boiling point.
+  bool off_sea_level = false;
+  for (const auto& r : runs) off_sea_level = off_sea_level || (r.results && r.results->done_degc != kDoneCoreDegC);
+  if (any_heat)
+    md += fmt::format(
+        "\nDone: the core at {:g} °C{}.\n", kDoneCoreDegC,
+        off_sea_level ? ", or 5 K below where water boils at the run's air pressure where that is lower" : "");
   SweepOutputs out;
   out.csv = dir / "sweep.csv";
   out.markdown = dir / "sweep.md";
@@ -158,7 +165,11 @@ SweepOutputs write_sweep_outputs(const fs::path& dir, const std::vector<SweepAxi
       double end = 0;
       for (const auto& s : spec.series)
         if (!s.x.empty()) end = std::max(end, s.x.back());
-      spec.series.push_back(doneness_series(0, end));
+      std::vector<double> levels;  // one line per level the runs are done at (altitudes differ)
+      for (const auto& r : runs)
+        if (r.results && std::find(levels.begin(), levels.end(), r.results->done_degc) == levels.end())
+          levels.push_back(r.results->done_degc);
+      for (const double level : levels) spec.series.push_back(doneness_series(0, end, level));
     }
     ensure_directory(plots);
     write_file_atomic(plots / k.file, encode_png(plot_lines(spec, text)));

@@ -29,7 +29,7 @@ sed 's/"solver"/"environment": {"bake_time_scale": 300000}, "solver"/' "$ROOT/te
 rc=$?
 check '[ $rc -eq 0 ]' "a 2 x 2 sweep exits 0"
 check '[ "$(wc -l < "$OUT/sw/sweep.csv")" -eq 5 ] && [ "$(ls "$OUT/sw/runs" | wc -l)" -eq 4 ]' "sweep.csv has a row per run, runs/ a directory per run"
-check 'head -1 "$OUT/sw/sweep.csv" | grep -q "^run,air_temperature,temperature,fps,status,bake_minutes,core_degC:block,crust_degC:block,minutes_to_95degC:block,volume_ratio:block,height_cm:block,heat_in_kJ,wall_seconds,directory$"' "sweep.csv names its columns with units"
+check 'head -1 "$OUT/sw/sweep.csv" | grep -q "^run,air_temperature,temperature,fps,status,bake_minutes,core_degC:block,crust_degC:block,minutes_to_done:block,volume_ratio:block,height_cm:block,heat_in_kJ,wall_seconds,directory$"' "sweep.csv names its columns with units"
 check 'grep -q "^| air_temperature=250,temperature=30 | 250 | 30 | done |" "$OUT/table.md" && cmp -s "$OUT/table.md" "$OUT/sw/sweep.md"' "the Markdown table is printed and written"
 check 'grep -q "\[4/4\]" "$OUT/sweep.txt" && grep -q "2 at a time\|1 at a time" "$OUT/sweep.txt"' "progress names each finished run"
 if [ $DASK -eq 1 ]; then
@@ -53,7 +53,7 @@ for run in "$OUT"/sw/runs/*; do
 import csv, sys
 rows = list(csv.DictReader(open(sys.argv[1])))
 r = [x for x in rows if x["directory"] == "runs/" + sys.argv[2]][0]
-print("%.2f %.2f" % (float(r["core_degC:block"]), float(r["minutes_to_95degC:block"] or -1)))' "$OUT/sw/sweep.csv" "$name")"
+print("%.2f %.2f" % (float(r["core_degC:block"]), float(r["minutes_to_done:block"] or -1)))' "$OUT/sw/sweep.csv" "$name")"
   check '[ "$got" = "$expected" ]' "$name: core and time to 95 degC in sweep.csv ($got) as in its stats.csv ($expected)"
   check 'grep -q "\"temperature\": [13]0" "$run/scene.json"' "$name: its scene.json records its values"
 done

@@ -2,6 +2,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 
 #include "core/errors.hpp"
 #include "io/sweep.hpp"
@@ -54,4 +56,19 @@ TEST(RunResults, FirstCrossingInterpolatesBetweenRows) {
   EXPECT_TRUE(std::isnan(render::first_crossing(t, {20, 40, 60, 94.9}, 95)));
   // A core that passes the line, cools and passes it again: the first time counts.
   EXPECT_DOUBLE_EQ(render::first_crossing(t, {90, 100, 90, 100}, 95), 30);
+}
+
+TEST(RunResults, DoneIsTheSeaLevelCoreOrFiveKelvinBelowWhereWaterBoils) {
+  EXPECT_DOUBLE_EQ(render::done_core_degc(100.0), 95.0);
+  EXPECT_DOUBLE_EQ(render::done_core_degc(93.4), 88.4);   // 2,000 m up: the moist crumb stops at 93.4 °C
+  EXPECT_DOUBLE_EQ(render::done_core_degc(105.0), 95.0);  // a pressure above 1 atm does not raise it
+  // A run directory's level comes from its scene.json; without one, sea level.
+  const auto dir = std::filesystem::temp_directory_path() / "bakesim-done-level";
+  std::filesystem::create_directories(dir);
+  EXPECT_DOUBLE_EQ(render::done_core_degc(dir), 95.0);
+  { std::ofstream(dir / "scene.json") << R"({"environment": {"altitude": 2000}})"; }
+  EXPECT_NEAR(render::done_core_degc(dir), 88.4, 0.1);
+  { std::ofstream(dir / "scene.json") << R"({"environment": {"air_pressure": 84609, "altitude": null}})"; }
+  EXPECT_NEAR(render::done_core_degc(dir), 90.0, 0.1);
+  std::filesystem::remove_all(dir);
 }
