@@ -625,16 +625,10 @@ ReportResult write_report_of(const fs::path& run_dir, const ReportOptions& o) {
   row("wall radiation", emissivity > 0 ? fmt::format("emissivity {:g}, walls at the air's temperature", emissivity)
                                        : std::string("none"));
   // Off sea level: the air's pressure, and where free water boils in it.
-  const json& env = scene["environment"];
-  const bool altitude = env.contains("altitude") && env["altitude"].is_number();
-  if (altitude || (env.contains("air_pressure") && env["air_pressure"].is_number())) {
-    const double pressure =
-        altitude ? standard_atmosphere_pressure(env["altitude"].get<double>()) : env["air_pressure"].get<double>();
-    row("air pressure",
-        fmt::format("{:.1f} kPa{}: free water boils at {:.1f} °C", pressure / 1000,
-                    altitude ? fmt::format(" ({:g} m up)", env["altitude"].get<double>()) : std::string(),
-                    boiling_point_at(pressure)));
-  }
+  if (const auto air = named_air_pressure(scene["environment"]))
+    row("air pressure", fmt::format("{:.1f} kPa{}: free water boils at {:.1f} °C", air->pascal / 1000,
+                                    air->altitude ? fmt::format(" ({:g} m up)", *air->altitude) : std::string(),
+                                    boiling_point_at(air->pascal)));
   row("bake clock",
       fmt::format("{:g} s of bake per simulated second", scene["environment"]["bake_time_scale"].get<double>()));
   row("simulated",

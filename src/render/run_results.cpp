@@ -26,14 +26,21 @@ double first_crossing(const std::vector<double>& t, const std::vector<double>& v
 
 double done_core_degc(double boiling_point) { return std::min(kDoneCoreDegC, boiling_point - 5.0); }
 
+std::optional<NamedAirPressure> named_air_pressure(const nlohmann::json& environment) {
+  if (environment.contains("altitude") && environment["altitude"].is_number()) {
+    const double altitude = environment["altitude"].get<double>();
+    return NamedAirPressure{standard_atmosphere_pressure(altitude), altitude};
+  }
+  if (environment.contains("air_pressure") && environment["air_pressure"].is_number())
+    return NamedAirPressure{environment["air_pressure"].get<double>(), std::nullopt};
+  return std::nullopt;
+}
+
 double done_core_degc(const fs::path& run_dir) {
   try {
-    const nlohmann::json env =
-        nlohmann::json::parse(read_file(run_dir / "scene.json")).value("environment", nlohmann::json());
-    if (env.contains("altitude") && env["altitude"].is_number())
-      return done_core_degc(boiling_point_at(standard_atmosphere_pressure(env["altitude"].get<double>())));
-    if (env.contains("air_pressure") && env["air_pressure"].is_number())
-      return done_core_degc(boiling_point_at(env["air_pressure"].get<double>()));
+    const nlohmann::json scene = nlohmann::json::parse(read_file(run_dir / "scene.json"));
+    if (const auto air = named_air_pressure(scene.value("environment", nlohmann::json::object())))
+      return done_core_degc(boiling_point_at(air->pascal));
   } catch (const std::exception&) {
   }
   return kDoneCoreDegC;

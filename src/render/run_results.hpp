@@ -3,6 +3,8 @@
 // the run's summary, `bakesim sweep`'s table and `bakesim report` show.
 #include <cmath>
 #include <filesystem>
+#include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -20,6 +22,14 @@ double done_core_degc(double boiling_point);
 // The level of a run directory, from its scene.json's environment (sea level
 // when it names no altitude or air pressure, or cannot be read).
 double done_core_degc(const std::filesystem::path& run_dir);
+
+// The air pressure a resolved scene's `environment` names (its altitude through
+// the standard atmosphere, or air_pressure), Pa; none at sea level.
+struct NamedAirPressure {
+  double pascal = 0;
+  std::optional<double> altitude;  // m, when the scene gave the altitude
+};
+std::optional<NamedAirPressure> named_air_pressure(const nlohmann::json& environment);
 
 // The doneness line of the plots at `level` °C from `from` to `to` (bake minutes), dashed.
 Series doneness_series(double from, double to, double level = kDoneCoreDegC);
