@@ -178,7 +178,9 @@ Oven build_oven(const Ctx& c, const json& env) {
     oven.mass_transfer_coefficient = env["mass_transfer_coefficient"].get<double>();
   const bool pressure_given = !env["air_pressure"].is_null(), altitude_given = !env["altitude"].is_null();
   if (pressure_given && altitude_given)
-    c.fail("environment.altitude", "give the air pressure or the altitude, not both (environment.air_pressure is set)");
+    c.fail("environment.altitude",
+           "give the air pressure or the altitude, not both (environment.air_pressure is set too; a variant that "
+           "changes one sets the other to null)");
   if (pressure_given) oven.air_pressure = env["air_pressure"].get<double>();
   if (altitude_given) oven.air_pressure = standard_atmosphere_pressure(env["altitude"].get<double>());
   return oven;
