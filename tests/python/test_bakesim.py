@@ -284,6 +284,7 @@ class RunDirectories(Base):
         self.assertTrue(os.path.getsize(page) > 1000)
         results = bakesim.run_results(out)
         self.assertIn("cookie", results["bodies"])
+        self.assertEqual(results["done_C"], 95.0)  # a sea-level scene: done at 95 degC
 
 
 class Sweeps(Base):
