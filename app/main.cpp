@@ -34,6 +34,7 @@
 #include "io/scene.hpp"
 #include "io/schema.hpp"
 #include "render/plot.hpp"
+#include "render/run_results.hpp"
 #include "render/report.hpp"
 #include "render/run_pictures.hpp"
 
@@ -84,6 +85,25 @@ std::string printable(const std::string& s) {
     else
       out += char(ch);
   return out;
+}
+
+// Each body's summary line ends with when its core was done (95 degC, lower
+// where the scene's altitude lowers the boiling point: render/run_results.hpp),
+// read back from stats.csv so that a resumed run counts its earlier frames.
+void append_doneness(std::vector<std::string>& lines, const fs::path& run_dir) {
+  if (lines.empty()) return;
+  render::RunResults results;
+  try {
+    results = render::read_run_results(run_dir);
+  } catch (const std::exception&) {
+    return;
+  }
+  for (std::string& line : lines)
+    for (const render::BodyResults& b : results.bodies)
+      if (b.heated && line.starts_with(b.name + ": "))
+        line += std::isfinite(b.minutes_to_done)
+                    ? fmt::format(", done ({:.3g} degC) after {:.1f} min", results.done_degc, b.minutes_to_done)
+                    : fmt::format(", not done ({:.3g} degC not reached)", results.done_degc);
 }
 
 int command_validate(const std::string& path, const std::vector<std::string>& sets, bool print_resolved, bool preview) {
@@ -213,7 +233,8 @@ int command_run(const RunArgs& a) {
   L.info("done: {} steps, {} frames, {:.2f} s wall, {:.3g} particle-steps/s", s.steps, s.frames, s.wall_seconds,
          s.particle_steps_per_second);
   L.info("time per step by phase:\n{}", solver->timers().report(std::max(1L, s.steps)));
-  const std::vector<std::string> bake = baking ? output.bake_summary() : std::vector<std::string>{};
+  std::vector<std::string> bake = baking ? output.bake_summary() : std::vector<std::string>{};
+  append_doneness(bake, out);
   for (const auto& line : bake) L.info("bake: {}", line);
   output.flush_log();
   if (!a.quiet) {

@@ -56,6 +56,7 @@ check 'tr "\r" "\n" < "$OUT/bake.txt" | grep -q "100%  bake 1.3/1.3 min  core [0
 core="$(head -1 "$OUT/bake/stats.csv" | tr , '\n' | grep -nx "core_temperature:dough" | cut -d: -f1)"
 last_core="$(tail -1 "$OUT/bake/stats.csv" | cut -d, -f"$core")"
 check 'grep -q "^bake of 1.3 min: dough: core $(printf %.1f "$last_core") degC, crust [0-9.]* degC, volume x[0-9.]*, moisture loss [0-9.]* %" "$OUT/bake.txt"' "the summary ends with the bake's results (core $last_core degC, from stats.csv)"
+check 'grep -Eq "^bake of 1.3 min: dough: .*, (done \(95 degC\) after [0-9.]+ min|not done \(95 degC not reached\))$" "$OUT/bake.txt"' "the summary says when the core was done (95 degC at sea level)"
 check '! grep -q "bake of\\|  bake [0-9]" "$OUT/stderr.txt" && grep -q "t=0.020/0.020 s" "$OUT/stderr.txt"' "a 0.02 s run of water is not called a bake"
 # A run's scene.json re-runs from its own directory also when the scene has meshes (their paths are made absolute).
 "$BAKESIM" run "$ROOT/scenes/viscous-funnel.json" --out "$OUT/funnel" --end-time 0.01 --quiet
