@@ -11,6 +11,7 @@
 
 #include "core/errors.hpp"
 #include "core/quantity.hpp"
+#include "physics/oven.hpp"
 #include "io/files.hpp"
 #include "io/materials.hpp"
 #include "io/scene_parts.hpp"
@@ -548,6 +549,16 @@ std::unique_ptr<Solver> make_solver(const Scene& scene) {
       ParticleQuantity::resolve(solver->particles(), scene.probes[i].quantities[k],
                                 fmt::format("{}: probes[{}].quantities[{}]", scene.file, i, k));
   return solver;
+}
+
+std::optional<NamedAirPressure> named_air_pressure(const nlohmann::json& environment) {
+  if (environment.contains("altitude") && environment["altitude"].is_number()) {
+    const double altitude = environment["altitude"].get<double>();
+    return NamedAirPressure{standard_atmosphere_pressure(altitude), altitude};
+  }
+  if (environment.contains("air_pressure") && environment["air_pressure"].is_number())
+    return NamedAirPressure{environment["air_pressure"].get<double>(), std::nullopt};
+  return std::nullopt;
 }
 
 std::string describe(const Scene& scene, Solver& solver) {

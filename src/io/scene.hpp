@@ -3,6 +3,7 @@
 // default), check what the schema cannot (names that refer to each other,
 // boxes with min < max, mesh files), and build the solver's setup.
 #include <memory>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -91,6 +92,15 @@ Scene load_scene(const std::string& path, std::vector<SceneOverride> overrides, 
 // --end-time: `end_time` instead of time.end, within the limits scene files obey (at most 1e6 s and a
 // million frames); recorded in the resolved scene. InputError("--end-time", ...) otherwise.
 void set_end_time(Scene& scene, double end_time);
+
+// The air pressure a scene's `environment` names, Pa: its `altitude` through
+// the ICAO standard atmosphere, or its `air_pressure`; none (sea level) when
+// it names neither. (Both at once is refused when the scene is loaded.)
+struct NamedAirPressure {
+  double pascal = 0;
+  std::optional<double> altitude;  // m, when the scene gave the altitude
+};
+std::optional<NamedAirPressure> named_air_pressure(const nlohmann::json& environment);
 
 std::unique_ptr<Solver> make_solver(const Scene& scene);
 

@@ -8,6 +8,7 @@
 
 #include "core/memory.hpp"
 #include "geometry/mesh_io.hpp"
+#include "io/scene.hpp"
 #include "io/schema.hpp"
 
 namespace bakesim::scene_parts {
@@ -176,13 +177,11 @@ Oven build_oven(const Ctx& c, const json& env) {
   oven.air_vapour_density = env["air_vapour_density"].get<double>();
   if (!env["mass_transfer_coefficient"].is_null())
     oven.mass_transfer_coefficient = env["mass_transfer_coefficient"].get<double>();
-  const bool pressure_given = !env["air_pressure"].is_null(), altitude_given = !env["altitude"].is_null();
-  if (pressure_given && altitude_given)
+  if (!env["air_pressure"].is_null() && !env["altitude"].is_null())
     c.fail("environment.altitude",
            "give the air pressure or the altitude, not both (environment.air_pressure is set too; a variant that "
            "changes one sets the other to null)");
-  if (pressure_given) oven.air_pressure = env["air_pressure"].get<double>();
-  if (altitude_given) oven.air_pressure = standard_atmosphere_pressure(env["altitude"].get<double>());
+  if (const auto air = named_air_pressure(env)) oven.air_pressure = air->pascal;
   return oven;
 }
 

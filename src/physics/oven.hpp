@@ -59,7 +59,7 @@ struct Oven {
   Real mass_transfer_at(Real time) const {
     return mass_transfer_coefficient
                ? *mass_transfer_coefficient
-               : bakesim::mass_transfer_coefficient(heat_transfer_coefficient, air_at(time), 0.85, air_pressure);
+               : bakesim::mass_transfer_coefficient(heat_transfer_coefficient, air_at(time), air_pressure);
   }
 };
 

@@ -222,8 +222,8 @@ inline PhaseChange condense_and_boil(const PoreWater& pw, Real heat_capacity, Re
 // Surface mass transfer coefficient h_m (m/s) from the heat transfer
 // coefficient by the Chilton–Colburn analogy, h_m = h / (ρ_air c_p,air Le^(2/3)),
 // with the dry air's density at the oven temperature and pressure (1 atm unless given).
-inline Real mass_transfer_coefficient(Real heat_transfer_coefficient, Real air_celsius, Real lewis_number = 0.85,
-                                      Real air_pressure = kAtmosphere) {
+inline Real mass_transfer_coefficient(Real heat_transfer_coefficient, Real air_celsius, Real air_pressure = kAtmosphere,
+                                      Real lewis_number = 0.85) {
   const Real tk = std::max(air_celsius, Real(-50)) + kZeroCelsius;
   const Real rho_air = air_pressure * kAirMolarMass / (kGasConstant * tk);
   return heat_transfer_coefficient / (rho_air * kAirSpecificHeat * std::pow(lewis_number, 2.0 / 3.0));

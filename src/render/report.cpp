@@ -15,6 +15,7 @@
 #include "core/errors.hpp"
 #include "io/files.hpp"
 #include "io/run_meshes.hpp"
+#include "io/scene.hpp"
 #include "physics/oven.hpp"
 #include "render/run_pictures.hpp"
 #include "render/run_results.hpp"

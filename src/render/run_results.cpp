@@ -8,6 +8,7 @@
 
 #include "core/errors.hpp"
 #include "io/files.hpp"
+#include "io/scene.hpp"
 #include "physics/oven.hpp"
 
 namespace bakesim::render {
@@ -26,24 +27,18 @@ double first_crossing(const std::vector<double>& t, const std::vector<double>& v
 
 double done_core_degc(double boiling_point) { return std::min(kDoneCoreDegC, boiling_point - 5.0); }
 
-std::optional<NamedAirPressure> named_air_pressure(const nlohmann::json& environment) {
-  if (environment.contains("altitude") && environment["altitude"].is_number()) {
-    const double altitude = environment["altitude"].get<double>();
-    return NamedAirPressure{standard_atmosphere_pressure(altitude), altitude};
-  }
-  if (environment.contains("air_pressure") && environment["air_pressure"].is_number())
-    return NamedAirPressure{environment["air_pressure"].get<double>(), std::nullopt};
-  return std::nullopt;
+double done_core_degc(const nlohmann::json& scene) {
+  if (const auto air = named_air_pressure(scene.value("environment", nlohmann::json::object())))
+    return done_core_degc(boiling_point_at(air->pascal));
+  return kDoneCoreDegC;
 }
 
 double done_core_degc(const fs::path& run_dir) {
   try {
-    const nlohmann::json scene = nlohmann::json::parse(read_file(run_dir / "scene.json"));
-    if (const auto air = named_air_pressure(scene.value("environment", nlohmann::json::object())))
-      return done_core_degc(boiling_point_at(air->pascal));
+    return done_core_degc(nlohmann::json::parse(read_file(run_dir / "scene.json")));
   } catch (const std::exception&) {
+    return kDoneCoreDegC;
   }
-  return kDoneCoreDegC;
 }
 
 Series doneness_series(double from, double to, double level) {
@@ -66,9 +61,10 @@ RunResults read_run_results(const fs::path& run_dir) {
   if (const auto* air = t.column("air_temperature")) r.air_end = air->back();
   if (const auto* heat = t.column("heat_in")) r.heat_in_kilojoules = heat->back() / 1000.0;
   if (const auto* wall = t.column("wall_time")) r.wall_seconds = wall->back();
-  r.done_degc = done_core_degc(run_dir);
   try {
-    r.scene_name = nlohmann::json::parse(read_file(run_dir / "scene.json")).value("name", "");
+    const nlohmann::json scene = nlohmann::json::parse(read_file(run_dir / "scene.json"));
+    r.scene_name = scene.value("name", "");
+    r.done_degc = done_core_degc(scene);
   } catch (const std::exception&) {
     r.scene_name = run_dir.filename().string();
   }

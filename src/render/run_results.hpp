@@ -4,7 +4,6 @@
 #include <cmath>
 #include <filesystem>
 #include <nlohmann/json.hpp>
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -19,17 +18,11 @@ inline constexpr double kDoneCoreDegC = 95.0;
 // moist crumb stops lower: done is 5 K below where free water boils there
 // (88.5 °C at 2,000 m), never above kDoneCoreDegC.
 double done_core_degc(double boiling_point);
-// The level of a run directory, from its scene.json's environment (sea level
-// when it names no altitude or air pressure, or cannot be read).
+// The level of a run's resolved scene (its scene.json): sea level unless its
+// environment names an altitude or air pressure (io/scene.hpp).
+double done_core_degc(const nlohmann::json& scene);
+// The same read from a run directory's scene.json (sea level if it cannot be read).
 double done_core_degc(const std::filesystem::path& run_dir);
-
-// The air pressure a resolved scene's `environment` names (its altitude through
-// the standard atmosphere, or air_pressure), Pa; none at sea level.
-struct NamedAirPressure {
-  double pascal = 0;
-  std::optional<double> altitude;  // m, when the scene gave the altitude
-};
-std::optional<NamedAirPressure> named_air_pressure(const nlohmann::json& environment);
 
 // The doneness line of the plots at `level` °C from `from` to `to` (bake minutes), dashed.
 Series doneness_series(double from, double to, double level = kDoneCoreDegC);
