@@ -16,7 +16,7 @@ namespace bakesim::render {
 inline constexpr double kDoneCoreDegC = 95.0;
 // Where the oven's air pressure lowers the boiling point (altitude), the
 // moist crumb stops lower: done is 5 K below where free water boils there
-// (88.5 °C at 2,000 m), never above kDoneCoreDegC.
+// (88.4 °C at 2,000 m), never above kDoneCoreDegC.
 double done_core_degc(double boiling_point);
 // The level of a run's resolved scene (its scene.json): sea level unless its
 // environment names an altitude or air pressure (io/scene.hpp).

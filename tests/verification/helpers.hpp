@@ -130,16 +130,20 @@ inline std::vector<std::vector<double>> read_csv(const std::string& path, std::v
   return rows;
 }
 
-// The n-th root of λ tan λ = Bi, in (nπ, nπ + π/2), by bisection on λ sin λ − Bi cos λ.
-inline double plane_wall_root(double biot, int n) {
-  double lo = n * kPi + 1e-12, hi = n * kPi + 0.5 * kPi - 1e-12;
-  for (int it = 0; it < 200; ++it) {
+// The root of f between lo and hi (f changes sign there), by `iterations` bisections.
+template <class F>
+double bisect_root(F&& f, double lo, double hi, int iterations) {
+  for (int it = 0; it < iterations; ++it) {
     const double mid = 0.5 * (lo + hi);
-    const double f = mid * std::sin(mid) - biot * std::cos(mid);
-    const double flo = lo * std::sin(lo) - biot * std::cos(lo);
-    ((f > 0) == (flo > 0) ? lo : hi) = mid;
+    ((f(mid) > 0) == (f(lo) > 0) ? lo : hi) = mid;
   }
   return 0.5 * (lo + hi);
+}
+
+// The n-th root of λ tan λ = Bi, in (nπ, nπ + π/2), by bisection on λ sin λ − Bi cos λ.
+inline double plane_wall_root(double biot, int n) {
+  return bisect_root([biot](double l) { return l * std::sin(l) - biot * std::cos(l); }, n * kPi + 1e-12,
+                     n * kPi + 0.5 * kPi - 1e-12, 200);
 }
 
 // Plane wall of half-thickness L, initially uniform, exchanging through
@@ -178,14 +182,7 @@ inline std::vector<double> infinite_cylinder_roots(double biot, int count) {
   double a = 1e-9, fa = f(a);
   for (double b = 0.01; int(roots.size()) < count; b += 0.01) {
     const double fb = f(b);
-    if ((fa > 0) != (fb > 0)) {
-      double lo = a, hi = b;
-      for (int it = 0; it < 100; ++it) {
-        const double mid = 0.5 * (lo + hi);
-        ((f(mid) > 0) == (f(lo) > 0) ? lo : hi) = mid;
-      }
-      roots.push_back(0.5 * (lo + hi));
-    }
+    if ((fa > 0) != (fb > 0)) roots.push_back(bisect_root(f, a, b, 100));
     a = b, fa = fb;
   }
   return roots;
