@@ -41,7 +41,6 @@ struct GridNode {
   Real mass;
   Real mv[3];
 };
-
 // Heat and water sums a node receives in P2G (spec 4.1–4.3).
 struct HeatSums {
   Real heat_capacity;  // M = Σ w m c, J/K
@@ -67,6 +66,7 @@ struct HeatState {
   Real air_area;        // area facing the air per volume, 1/m
   Real vapour_ratio;    // r_v = Δt ΔW_v / W (r + r_v never below −1)
   Real vapour_density;  // ρ_v of the node, for the next vapour flux, kg/m³
+  Real unused = 0;      // pads the record to three 4-lane vectors (mpm/transfer.hpp)
 };
 
 // Particles grouped by blocks of kBlock³ cells, and the blocks coloured 2×2×2

@@ -208,25 +208,6 @@ void MpmSolver::build_particles() {
   }
 }
 
-namespace {
-// 3×3 per-particle matrices are stored as three column attributes.
-Mat3 from_columns(const Vec3& a, const Vec3& b, const Vec3& c) {
-  Mat3 m;
-  m << a, b, c;
-  return m;
-}
-void to_columns(const Mat3& m, Vec3& a, Vec3& b, Vec3& c) {
-  a = m.col(0);
-  b = m.col(1);
-  c = m.col(2);
-}
-}  // namespace
-
-Mat3 MpmSolver::deformation_gradient(std::size_t i) const { return from_columns(f0_[i], f1_[i], f2_[i]); }
-void MpmSolver::set_deformation_gradient(std::size_t i, const Mat3& f) { to_columns(f, f0_[i], f1_[i], f2_[i]); }
-Mat3 MpmSolver::affine(std::size_t i) const { return from_columns(c0_[i], c1_[i], c2_[i]); }
-void MpmSolver::set_affine(std::size_t i, const Mat3& c) { to_columns(c, c0_[i], c1_[i], c2_[i]); }
-
 Real MpmSolver::total_mass() const {
   return deterministic_sum(m_.size(), [&](std::size_t i) { return m_[i]; });
 }

@@ -59,10 +59,22 @@ class MpmSolver final : public Solver {
 
   const Setup& setup() const { return setup_; }
   // Deformation gradient F^E of particle i (columns stored as three vectors).
-  Mat3 deformation_gradient(std::size_t i) const;
-  void set_deformation_gradient(std::size_t i, const Mat3& f);
-  Mat3 affine(std::size_t i) const;
-  void set_affine(std::size_t i, const Mat3& c);
+  // 3×3 per-particle matrices are stored as three column attributes; inline,
+  // for the transfers and the constitutive loop call them for every particle.
+  Mat3 deformation_gradient(std::size_t i) const {
+    Mat3 f;
+    f.col(0) = f0_[i], f.col(1) = f1_[i], f.col(2) = f2_[i];
+    return f;
+  }
+  void set_deformation_gradient(std::size_t i, const Mat3& f) {
+    f0_[i] = f.col(0), f1_[i] = f.col(1), f2_[i] = f.col(2);
+  }
+  Mat3 affine(std::size_t i) const {
+    Mat3 c;
+    c.col(0) = c0_[i], c.col(1) = c1_[i], c.col(2) = c2_[i];
+    return c;
+  }
+  void set_affine(std::size_t i, const Mat3& c) { c0_[i] = c.col(0), c1_[i] = c.col(1), c2_[i] = c.col(2); }
   std::size_t steps() const { return steps_; }
   Real total_mass() const;
   // Σ m_i over the grid after the last P2G (equals total_mass() by the

@@ -9,6 +9,7 @@
 #include <limits>
 
 #include "core/parallel.hpp"
+#include "mpm/transfer.hpp"
 
 namespace bakesim::mpm {
 
@@ -23,90 +24,31 @@ void MpmSolver::g2p(Real dt) {
   const Vec3 origin = grid_origin_;
   const std::size_t nz = nz_, syz = std::size_t(ny_) * nz_;
   const Real d_inv = 4.0 * inv_dx_;  // D⁻¹ (x_i − x_p) with offsets in cells: 4/Δx² · Δx
+  const Vec3 domain_lo = setup_.domain.min, domain_hi = setup_.domain.max;
+  const GridNode* const grid = grid_.data();
+  const HeatState* const heat = heat_state_.data();
   if constexpr (kThermal) face_depth_.resize(x_.size());
   parallel_for(
       x_.size(),
       [&](std::size_t p) {
         const Vec3 g = (x_[p] - origin) * inv_dx_;
-        const Axis ax = axis_weights(g.x()), ay = axis_weights(g.y()), az = axis_weights(g.z());
-        Real v[3] = {0, 0, 0};
-        Real b[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};  // b[col][row] = Σ w v_row offset_col
-        // Thermal gathers: Σ w of {Δθ, k, kθ, r, k_air} and Σ w o of {θ_new, s}.
-        // (moisture: and Σ w r_v, Σ w o ρ_v)
-        // (and Σ w o k_air: the centroid of the particle's air-facing area, the face;
-        // Σ w a_x, Σ w φ and Σ w o φ: the area it exchanges through, the fill and its gradient)
-        Real hs[8] = {0, 0, 0, 0, 0, 0, 0, 0}, hg[3][5] = {{0, 0, 0, 0, 0}, {0, 0, 0, 0, 0}, {0, 0, 0, 0, 0}};
-        for (int i = 0; i < 3; ++i) {
-          Real vi[3] = {0, 0, 0}, bi[2][3] = {{0, 0, 0}, {0, 0, 0}};  // Σ over j, k at this i
-          Real hsi[8] = {0, 0, 0, 0, 0, 0, 0, 0}, hgi[3][5] = {{0, 0, 0, 0, 0}, {0, 0, 0, 0, 0}, {0, 0, 0, 0, 0}};
-          for (int j = 0; j < 3; ++j) {
-            const Real oy = j - ay.frac;
-            const std::size_t row_index = std::size_t(ax.base + i) * syz + std::size_t(ay.base + j) * nz + az.base;
-            const GridNode* row = &grid_[row_index];
-            Real vj[3] = {0, 0, 0}, bz[3] = {0, 0, 0};
-            for (int kk = 0; kk < 3; ++kk) {
-              const Real w = az.w[kk], oz = kk - az.frac;
-              for (int r = 0; r < 3; ++r) {
-                const Real wv = w * row[kk].mv[r];
-                vj[r] += wv;
-                bz[r] += wv * oz;
-              }
-            }
-            const Real wy = ay.w[j];
-            for (int r = 0; r < 3; ++r) {
-              vi[r] += wy * vj[r];
-              bi[0][r] += wy * vj[r] * oy;
-              bi[1][r] += wy * bz[r];
-            }
-            if constexpr (kThermal) {
-              const HeatState* hrow = &heat_state_[row_index];
-              Real sj[8] = {0, 0, 0, 0, 0, 0, 0, 0}, tj[5] = {0, 0, 0, 0, 0}, tz[5] = {0, 0, 0, 0, 0};
-              for (int kk = 0; kk < 3; ++kk) {
-                const Real w = az.w[kk], oz = kk - az.frac;
-                const HeatState& f = hrow[kk];
-                sj[0] += w * f.dtheta, sj[1] += w * f.exchange, sj[2] += w * f.exchange_theta,
-                    sj[3] += w * f.water_ratio, sj[4] += w * f.air_area, sj[5] += w * f.vapour_ratio;
-                tj[0] += w * f.theta, tj[1] += w * f.saturation, tj[2] += w * f.vapour_density;
-                tz[0] += w * f.theta * oz, tz[1] += w * f.saturation * oz, tz[2] += w * f.vapour_density * oz;
-                tj[3] += w * f.air_area, tz[3] += w * f.air_area * oz;
-                sj[6] += w * f.exchange_area, sj[7] += w * f.fill;
-                tj[4] += w * f.fill, tz[4] += w * f.fill * oz;
-              }
-              for (int q = 0; q < 8; ++q) hsi[q] += wy * sj[q];
-              for (int q = 0; q < 5; ++q) {
-                hgi[0][q] += wy * tj[q];  // carried to x below
-                hgi[1][q] += wy * tj[q] * oy;
-                hgi[2][q] += wy * tz[q];
-              }
-            }
-          }
-          const Real wx = ax.w[i], ox = i - ax.frac;
-          for (int r = 0; r < 3; ++r) {
-            v[r] += wx * vi[r];
-            b[0][r] += wx * vi[r] * ox;
-            b[1][r] += wx * bi[0][r];
-            b[2][r] += wx * bi[1][r];
-          }
-          if constexpr (kThermal) {
-            for (int q = 0; q < 8; ++q) hs[q] += wx * hsi[q];
-            for (int q = 0; q < 5; ++q) {
-              hg[0][q] += wx * hgi[0][q] * ox;
-              hg[1][q] += wx * hgi[1][q];
-              hg[2][q] += wx * hgi[2][q];
-            }
-          }
-        }
-        const Vec3 vp(v[0], v[1], v[2]);
+        const Stencil st{axis_weights(g.x()), axis_weights(g.y()), axis_weights(g.z()), nz, syz};
+        // GridNode lanes after the grid update: {m, v_x, v_y, v_z}; lane 0 unused.
+        const StencilMoments<1> mv = gather_moments(grid, st);
+        const Vec3 vp(mv.sum[0][1], mv.sum[0][2], mv.sum[0][3]);
         Mat3 c;
-        for (int col = 0; col < 3; ++col)
-          for (int r = 0; r < 3; ++r) c(r, col) = d_inv * b[col][r];
+        c.col(0) = d_inv * Vec3(mv.x[0][1], mv.x[0][2], mv.x[0][3]);
+        c.col(1) = d_inv * Vec3(mv.y[0][1], mv.y[0][2], mv.y[0][3]);
+        c.col(2) = d_inv * Vec3(mv.z[0][1], mv.z[0][2], mv.z[0][3]);
         v_[p] = vp;
         c0_[p] = c.col(0), c1_[p] = c.col(1), c2_[p] = c.col(2);
         const Mat3 df = Mat3::Identity() + dt * c;
         set_deformation_gradient(p, df * deformation_gradient(p));
         j_[p] *= df.determinant();
         x_[p] += dt * vp;
-        push_inside_domain(p);
+        // Nearly every point stays inside the domain: one test before the full treatment.
+        if (!((x_[p].array() >= domain_lo.array()).all() && (x_[p].array() < domain_hi.array()).all()))
+          push_inside_domain(p);
         if (!near_collider_.empty()) {
           // The node nearest the particle's old position (it moves less than a cell).
           const std::size_t nearest =
@@ -114,12 +56,19 @@ void MpmSolver::g2p(Real dt) {
           if (near_collider_[nearest]) push_out_of_colliders(p);
         }
         if constexpr (kThermal) {
+          // Thermal gathers over HeatState: Σ w of Δθ (FLIP), the exchange
+          // conductance and drive, r, r_v, the air-facing and exchanging areas and
+          // the fill; Σ w o of θ, s, ρ_v (their gradients), of the air-facing area
+          // (the centroid of the particle's face) and of the fill (its gradient).
+          const StencilMoments<3> hm = gather_moments(heat, st);
+          const HeatState sum = as_record<HeatState>(hm.sum), mx = as_record<HeatState>(hm.x),
+                          my = as_record<HeatState>(hm.y), mz = as_record<HeatState>(hm.z);
           const Real volume = j_[p] * volume0_[p];
           // FLIP: θ_p += Σ w Δθ_i (spec 4.3), kept within the coldest and hottest
           // temperatures in the scene (particles, air, colliders) before the step:
           // where the material was cut (the lava cake's knife) FLIP increments took
           // particles to 6 °C in a 20–25 °C room.
-          temperature_[p] = std::clamp(temperature_[p] + hs[0], flip_bounds_[0], flip_bounds_[1]);
+          temperature_[p] = std::clamp(temperature_[p] + sum.dtheta, flip_bounds_[0], flip_bounds_[1]);
           // The particle's share of the boundary, S β, in series with conduction
           // across its depth d below the face, 1/(1/β + d/κ) per area: the nodes
           // of the face spread the exchange over points up to two cells in,
@@ -127,30 +76,31 @@ void MpmSolver::g2p(Real dt) {
           // temperature overstated it by 1 + β d/κ (+24% over Fo 0.25 for a slab
           // on a tray at β Δx/κ = 1.2; docs/physics.md). The face is the fill's
           // level 1/2, d = (φ − 1/2)/|∇φ| from the point.
-          const Real area = volume * hs[6];
+          const Real area = volume * sum.exchange_area;
           Real series = 1, depth = 0;
-          if (hs[1] > 0 && area > 0) {
-            const Real grad = d_inv * Vec3(hg[0][4], hg[1][4], hg[2][4]).norm();
-            depth = grad > 0 ? std::clamp((hs[7] - Real(0.5)) / grad, Real(0), 2 * dx_) : 2 * dx_;
+          if (sum.exchange > 0 && area > 0) {
+            const Real grad = d_inv * Vec3(mx.fill, my.fill, mz.fill).norm();
+            depth = grad > 0 ? std::clamp((sum.fill - Real(0.5)) / grad, Real(0), 2 * dx_) : 2 * dx_;
             const Real kappa = point_conductivity(p);
-            const Real beta = volume * hs[1] / area;
+            const Real beta = volume * sum.exchange / area;
             if (kappa > 0) series = 1 / (1 + beta * depth / kappa);
           }
           face_depth_[p] = depth;
-          exchange_[p] = series * volume * hs[1];
-          exchange_t_[p] = series * volume * hs[2];
+          exchange_[p] = series * volume * sum.exchange;
+          exchange_t_[p] = series * volume * sum.exchange_theta;
           // Moisture (physics/water.hpp): the water that arrives or leaves as vapour
           // condenses or evaporates here, giving or taking h_fg; then the boiling cap.
-          const Real vapour_gain = water_[p] * hs[5];
-          water_[p] *= 1 + hs[3] + hs[5];
-          air_area_[p] = volume * hs[4];
+          const Real vapour_gain = water_[p] * sum.vapour_ratio;
+          water_[p] *= 1 + sum.water_ratio + sum.vapour_ratio;
+          air_area_[p] = volume * sum.air_area;
           // The area-weighted mean offset of the nodes that give the particle its area: the face,
           // seen from the particle (cells; the area profile of ∇φ is centred on the face).
-          air_depth_[p] = hs[4] > 0 ? dx_ * Vec3(hg[0][3], hg[1][3], hg[2][3]).norm() / hs[4] : 0;
-          grad_theta_[p] = d_inv * Vec3(hg[0][0], hg[1][0], hg[2][0]);
-          grad_s_[p] = d_inv * Vec3(hg[0][1], hg[1][1], hg[2][1]);
+          air_depth_[p] =
+              sum.air_area > 0 ? dx_ * Vec3(mx.air_area, my.air_area, mz.air_area).norm() / sum.air_area : 0;
+          grad_theta_[p] = d_inv * Vec3(mx.theta, my.theta, mz.theta);
+          grad_s_[p] = d_inv * Vec3(mx.saturation, my.saturation, mz.saturation);
           if (moist_) {
-            grad_vapour_[p] = d_inv * Vec3(hg[0][2], hg[1][2], hg[2][2]);
+            grad_vapour_[p] = d_inv * Vec3(mx.vapour_density, my.vapour_density, mz.vapour_density);
             const PoreWater& pw = setup_.materials[material_[p]].moisture;
             Real latent = 0;
             if (pw.active()) {

@@ -2,7 +2,10 @@
 // stress force, and with heat the heat and water sums (spec 4.1–4.4).
 #include "mpm/solver.hpp"
 
+#include <cstddef>
+
 #include "core/parallel.hpp"
+#include "mpm/transfer.hpp"
 
 namespace bakesim::mpm {
 
@@ -15,6 +18,10 @@ namespace bakesim::mpm {
 // W_i = Σ w m_w and the rates Q_i = Σ w S β (θ_amb − θ) − Σ V κ ∇θ_p · ∇w_ip,
 // ΔW_i = −Σ w E(θ) s S_air + Σ V q_w · ∇w_ip, with the same MLS gradient
 // (∇w_ip = w (4/Δx) o, o the node offset in cells).
+static_assert(offsetof(HeatSums, heat_capacity) == 0 && offsetof(HeatSums, water) == 3 * sizeof(Real) &&
+                  offsetof(HeatSums, volume) == 4 * sizeof(Real) && offsetof(HeatSums, vapour_rate) == 7 * sizeof(Real),
+              "P2G fills HeatSums as the lanes {M, E, Q, W | V, dW, V rho_v, dW_v}");
+
 template <bool kThermal>
 void MpmSolver::p2g(Real dt) {
   parallel_for(
@@ -31,7 +38,10 @@ void MpmSolver::p2g(Real dt) {
   const Vec3 origin = grid_origin_;
   const std::size_t nz = nz_, syz = std::size_t(ny_) * nz_;
   const Real d_inv = 4.0 * inv_dx_ * inv_dx_;
+  GridNode* const grid = grid_.data();
+  HeatSums* const sums = heat_sums_.data();
   blocks_.for_each_by_colour(x_, origin, inv_dx_, [&](std::uint32_t p, const Axis& ax, const Axis& ay, const Axis& az) {
+    const Stencil st{ax, ay, az, nz, syz};
     const Real mp = m_[p];
     // A Δx, so that A (x_i − x_p) = (A Δx) · offset-in-cells.
     const Real s = -dt * volume0_[p] * d_inv;
@@ -46,54 +56,22 @@ void MpmSolver::p2g(Real dt) {
     a[2][1] += s * to.z(), a[1][2] += s * to.z();
     for (int col = 0; col < 3; ++col)
       for (int row = 0; row < 3; ++row) a[col][row] *= dx_;
-    const Real mv[3] = {mp * v_[p].x(), mp * v_[p].y(), mp * v_[p].z()};
-    // Thermal channels: scalar parts (h) and offset slopes (hv, per axis).
-    Real h[8] = {0, 0, 0, 0, 0, 0, 0, 0}, hv[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+    // GridNode lanes {m, (m v)_x, (m v)_y, (m v)_z}: node += w ((m_p, m_p v_p) + (0, A Δx) o),
+    // o the offset in cells (the mass has no affine part).
+    scatter_affine(grid, st, {Lane4(mp, mp * v_[p].x(), mp * v_[p].y(), mp * v_[p].z())},
+                   {Lane4(0, a[0][0], a[0][1], a[0][2])}, {Lane4(0, a[1][0], a[1][1], a[1][2])},
+                   {Lane4(0, a[2][0], a[2][1], a[2][2])});
     if constexpr (kThermal) {
-      h[0] = heat_capacity_[p];
-      h[1] = heat_capacity_[p] * temperature_[p];
-      h[2] = heat_src_[p];
-      h[3] = water_[p];
-      h[4] = j_[p] * volume0_[p];
-      h[5] = water_src_[p];
-      h[6] = h[4] * vapour_density_[p];
-      h[7] = vapour_src_[p];
-      for (int d = 0; d < 3; ++d) hv[d][0] = heat_vec_[p][d], hv[d][1] = water_vec_[p][d], hv[d][2] = vapour_vec_[p][d];
-    }
-    for (int i = 0; i < 3; ++i) {
-      const Real ox = i - ax.frac;
-      Real ti[3];
-      for (int r = 0; r < 3; ++r) ti[r] = mv[r] + a[0][r] * ox;
-      const Real qi = h[2] + hv[0][0] * ox, wi = h[5] + hv[0][1] * ox, vi = h[7] + hv[0][2] * ox;
-      for (int j = 0; j < 3; ++j) {
-        const Real oy = j - ay.frac, wij = ax.w[i] * ay.w[j];
-        Real tj[3];
-        for (int r = 0; r < 3; ++r) tj[r] = ti[r] + a[1][r] * oy;
-        const std::size_t row_index = std::size_t(ax.base + i) * syz + std::size_t(ay.base + j) * nz + az.base;
-        GridNode* row = &grid_[row_index];
-        for (int kk = 0; kk < 3; ++kk) {
-          const Real oz = kk - az.frac, w = wij * az.w[kk];
-          GridNode& node = row[kk];
-          node.mass += w * mp;
-          for (int r = 0; r < 3; ++r) node.mv[r] += w * (tj[r] + a[2][r] * oz);
-        }
-        if constexpr (kThermal) {
-          const Real qj = qi + hv[1][0] * oy, wj = wi + hv[1][1] * oy, vj = vi + hv[1][2] * oy;
-          HeatSums* hrow = &heat_sums_[row_index];
-          for (int kk = 0; kk < 3; ++kk) {
-            const Real oz = kk - az.frac, w = wij * az.w[kk];
-            HeatSums& f = hrow[kk];
-            f.heat_capacity += w * h[0];
-            f.energy += w * h[1];
-            f.heat_rate += w * (qj + hv[2][0] * oz);
-            f.water += w * h[3];
-            f.volume += w * h[4];
-            f.water_rate += w * (wj + hv[2][1] * oz);
-            f.vapour += w * h[6];
-            f.vapour_rate += w * (vj + hv[2][2] * oz);
-          }
-        }
-      }
+      // HeatSums lanes {M, E, Q, W | V, ΔW, V ρ_v, ΔW_v}: the heat, water and vapour
+      // rates carry their flux terms q · ∇w as slopes in the offset.
+      const Real volume = j_[p] * volume0_[p];
+      const Vec3 q = heat_vec_[p], qw = water_vec_[p], qv = vapour_vec_[p];
+      scatter_affine(sums, st,
+                     {Lane4(heat_capacity_[p], heat_capacity_[p] * temperature_[p], heat_src_[p], water_[p]),
+                      Lane4(volume, water_src_[p], volume * vapour_density_[p], vapour_src_[p])},
+                     {Lane4(0, 0, q.x(), 0), Lane4(0, qw.x(), 0, qv.x())},
+                     {Lane4(0, 0, q.y(), 0), Lane4(0, qw.y(), 0, qv.y())},
+                     {Lane4(0, 0, q.z(), 0), Lane4(0, qw.z(), 0, qv.z())});
     }
   });
 }
