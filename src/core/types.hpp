@@ -9,6 +9,9 @@ using Real = double;
 using Vec3 = Eigen::Matrix<Real, 3, 1>;
 using Mat3 = Eigen::Matrix<Real, 3, 3>;
 using Vec4 = Eigen::Matrix<Real, 4, 1>;
+// Four values worked on together, one per SIMD lane (AVX in the native build,
+// SSE2 pairs otherwise): four fields of an MPM grid record (mpm/transfer.hpp).
+using Lane4 = Eigen::Array<Real, 4, 1>;
 
 struct Aabb {
   Vec3 min = Vec3::Constant(0.0);

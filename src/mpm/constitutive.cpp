@@ -6,6 +6,7 @@
 #include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
+#include <experimental/simd>
 
 namespace bakesim::mpm {
 
@@ -30,57 +31,83 @@ Svd3 jacobi_svd(const Mat3& f) {
 
 namespace {
 
+// Four matrices at once, one per SIMD lane (issue 25: the divisions and square
+// roots of four particles in flight together instead of one after another).
+// std::experimental::simd (libstdc++) rather than Eigen arrays: Eigen's
+// select() is evaluated lane by lane, with a branch and a scalar division each.
+namespace stdx = std::experimental;
+using Lanes = stdx::fixed_size_simd<Real, 4>;
+
+// A symmetric 3×3 matrix by its six entries and the rotation Q built up on it.
+template <class T>
+struct SymmetricJacobi {
+  T a00, a11, a22, a01, a02, a12;
+  T q[3][3];  // q[row][col]
+};
+
 // One Jacobi rotation in the (p, r) plane of a symmetric 3×3 matrix held as
 // its six entries (k the third index): zeroes a_pr and turns the columns p, r
 // of Q with it. The update is the textbook one on the entries the rotation
 // changes (a_pp, a_rr, a_kp, a_kr), with τ = s/(1 + c) for round-off
 // (Press et al., Numerical Recipes, §11.1): about a third of the operations
 // of turning the full matrix from both sides.
-template <int p, int r>
-inline void jacobi_rotate(Real& app, Real& arr, Real& apr, Real& akp, Real& akr, Mat3& q) {
-  if (apr == 0) return;
-  const Real theta = (arr - app) / (2 * apr);
-  const Real t = (theta >= 0 ? 1 : -1) / (std::abs(theta) + std::sqrt(theta * theta + 1));
-  const Real c = 1 / std::sqrt(t * t + 1), s = t * c, tau = s / (1 + c);
+template <int p, int r, class T>
+inline void jacobi_rotate(T& app, T& arr, T& apr, T& akp, T& akr, T (&q)[3][3]) {
+  using std::abs, std::sqrt;
+  T t;
+  if constexpr (std::is_same_v<T, Real>) {
+    if (apr == 0) return;
+    const Real theta = (arr - app) / (2 * apr);
+    t = (theta >= 0 ? 1 : -1) / (abs(theta) + sqrt(theta * theta + 1));
+  } else {
+    // Lanes whose a_pr is already zero turn by t = 0 (θ would be ±∞ or 0/0).
+    const auto zero = apr == 0;
+    T denominator = 2 * apr;
+    where(zero, denominator) = 1;
+    const T theta = (arr - app) / denominator;
+    T sign = 1;
+    where(theta < 0, sign) = -1;
+    t = sign / (abs(theta) + sqrt(theta * theta + 1));
+    where(zero, t) = 0;
+  }
+  const T c = 1 / sqrt(t * t + 1), s = t * c, tau = s / (1 + c);
   app -= t * apr;
   arr += t * apr;
   apr = 0;  // zero by construction; round-off would only slow the stop
-  const Real kp = akp, kr = akr;
+  const T kp = akp, kr = akr;
   akp = kp - s * (kr + tau * kp);
   akr = kr + s * (kp - tau * kr);
   for (int i = 0; i < 3; ++i) {
-    const Real qip = q(i, p), qir = q(i, r);
-    q(i, p) = qip - s * (qir + tau * qip);
-    q(i, r) = qir + s * (qip - tau * qir);
+    const T qip = q[i][p], qir = q[i][r];
+    q[i][p] = qip - s * (qir + tau * qip);
+    q[i][r] = qir + s * (qip - tau * qir);
   }
 }
 
-// Eigen-decomposition of a symmetric 3×3 matrix A = Q diag(λ) Qᵀ by cyclic
-// Jacobi rotations. MPM deformation gradients are close to rotations, so FᵀF
-// is close to diagonal in a few rotations; Jacobi is also accurate for nearly
-// equal eigenvalues, where closed-form solutions lose the eigenvectors.
-void symmetric_eigen(const Mat3& a, Mat3& q, Vec3& lambda) {
-  Real a00 = a(0, 0), a11 = a(1, 1), a22 = a(2, 2), a01 = a(0, 1), a02 = a(0, 2), a12 = a(1, 2);
-  q.setIdentity();
+// Cyclic Jacobi sweeps until the off-diagonal entries fall below 1e-12 of the
+// diagonal (eigenvalues to 1e-24), in every lane. MPM deformation gradients
+// are close to rotations, so FᵀF is close to diagonal in a few rotations;
+// Jacobi is also accurate for nearly equal eigenvalues, where closed-form
+// solutions lose the eigenvectors.
+template <class T>
+void jacobi_sweeps(SymmetricJacobi<T>& m) {
   for (int sweep = 0; sweep < 12; ++sweep) {
-    const Real off = a01 * a01 + a02 * a02 + a12 * a12;
-    const Real diag = a00 * a00 + a11 * a11 + a22 * a22;
-    // Off-diagonals below 1e-12 of the diagonal: eigenvalues to 1e-24.
-    if (off <= 1e-24 * diag) break;
-    jacobi_rotate<0, 1>(a00, a11, a01, a02, a12, q);  // k = 2: a_k0 = a02, a_k1 = a12
-    jacobi_rotate<0, 2>(a00, a22, a02, a01, a12, q);  // k = 1: a_k0 = a01, a_k2 = a12
-    jacobi_rotate<1, 2>(a11, a22, a12, a01, a02, q);  // k = 0: a_k1 = a01, a_k2 = a02
+    const T off = m.a01 * m.a01 + m.a02 * m.a02 + m.a12 * m.a12;
+    const T diag = m.a00 * m.a00 + m.a11 * m.a11 + m.a22 * m.a22;
+    if constexpr (std::is_same_v<T, Real>) {
+      if (off <= 1e-24 * diag) break;
+    } else {
+      if (all_of(off <= 1e-24 * diag)) break;
+    }
+    jacobi_rotate<0, 1>(m.a00, m.a11, m.a01, m.a02, m.a12, m.q);  // k = 2: a_k0 = a02, a_k1 = a12
+    jacobi_rotate<0, 2>(m.a00, m.a22, m.a02, m.a01, m.a12, m.q);  // k = 1: a_k0 = a01, a_k2 = a12
+    jacobi_rotate<1, 2>(m.a11, m.a22, m.a12, m.a01, m.a02, m.q);  // k = 0: a_k1 = a01, a_k2 = a02
   }
-  lambda = Vec3(a00, a11, a22);
 }
 
-}  // namespace
-
-Svd3 svd3(const Mat3& f) {
-  // FᵀF = V Σ² Vᵀ (Jacobi), U = F V Σ⁻¹; σ sorted largest first.
-  Mat3 q;
-  Vec3 s2;
-  symmetric_eigen(f.transpose() * f, q, s2);
+// F = U Σ Vᵀ from the eigen-decomposition FᵀF = Q diag(s²) Qᵀ: V = Q sorted
+// largest first, U = F V Σ⁻¹.
+Svd3 svd_from_eigen(const Mat3& f, const Mat3& q, const Vec3& s2) {
   int order[3] = {0, 1, 2};
   if (s2[order[0]] < s2[order[1]]) std::swap(order[0], order[1]);
   if (s2[order[1]] < s2[order[2]]) std::swap(order[1], order[2]);
@@ -102,6 +129,34 @@ Svd3 svd3(const Mat3& f) {
   out.u.col(2) = out.u.col(0).cross(out.u.col(1));
   out.sigma[2] = out.u.col(2).dot(fv.col(2));
   return out;
+}
+
+}  // namespace
+
+Svd3 svd3(const Mat3& f) {
+  const Mat3 a = f.transpose() * f;
+  SymmetricJacobi<Real> m{a(0, 0), a(1, 1), a(2, 2), a(0, 1), a(0, 2), a(1, 2), {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
+  jacobi_sweeps(m);
+  Mat3 q;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) q(i, j) = m.q[i][j];
+  return svd_from_eigen(f, q, Vec3(m.a00, m.a11, m.a22));
+}
+
+void svd3x4(const Mat3 (&f)[4], Svd3 (&out)[4]) {
+  Mat3 a[4];
+  for (int l = 0; l < 4; ++l) a[l] = f[l].transpose() * f[l];
+  const auto entry = [&](int i, int j) { return Lanes([&](auto l) { return a[l](i, j); }); };
+  SymmetricJacobi<Lanes> m{entry(0, 0), entry(1, 1), entry(2, 2), entry(0, 1), entry(0, 2), entry(1, 2), {}};
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) m.q[i][j] = i == j ? 1 : 0;
+  jacobi_sweeps(m);
+  for (int l = 0; l < 4; ++l) {
+    Mat3 q;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) q(i, j) = m.q[i][j][l];
+    out[l] = svd_from_eigen(f[l], q, Vec3(m.a00[l], m.a11[l], m.a22[l]));
+  }
 }
 
 Mat3 kirchhoff_stress(const Hencky& law, const Mat3&, const Svd3& svd) {

@@ -17,14 +17,19 @@ struct Lame {
   }
 };
 
-// F = U diag(σ) Vᵀ with U, V rotations (det +1); σ may have a negative last
-// entry for an inverted F. Closed-form eigen-decomposition of FᵀF, with a
-// Jacobi SVD where that is ill-conditioned (nearly equal or tiny σ).
+// F = U diag(σ) Vᵀ with U, V rotations (det +1), σ sorted largest first; σ may
+// have a negative last entry for an inverted F. Cyclic Jacobi eigen-decomposition
+// of FᵀF, with Eigen's Jacobi SVD where a tiny σ (below 1e-4 of the largest)
+// would lose its accuracy when squared.
 struct Svd3 {
   Mat3 u, v;
   Vec3 sigma;
 };
 Svd3 svd3(const Mat3& f);
+// The SVDs of four matrices at once (the Jacobi sweeps run on 4-lane vectors,
+// one matrix per lane, until every lane has converged); each result is within
+// round-off of svd3 of its matrix.
+void svd3x4(const Mat3 (&f)[4], Svd3 (&out)[4]);
 
 // ψ = μ tr(ε²) + ½ λ (tr ε)², ε = log σ (Hencky strain); τ = U (2μ ε + λ tr ε I) Uᵀ.
 struct Hencky {

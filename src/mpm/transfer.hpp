@@ -14,8 +14,6 @@
 
 namespace bakesim::mpm {
 
-using Lane4 = Eigen::Array<Real, 4, 1>;
-
 template <class Node>
 inline constexpr int kLanes = int(sizeof(Node) / (4 * sizeof(Real)));
 

@@ -54,6 +54,37 @@ TEST(MpmLaws, SvdReconstructsWithRotations) {
   EXPECT_NEAR((s.u * s.sigma.asDiagonal() * s.v.transpose() - inv).norm(), 0.0, 1e-12);
 }
 
+// svd3x4 runs the Jacobi sweeps of four matrices in the lanes of one vector,
+// until every lane has converged: each result must be a valid SVD of its own
+// matrix whatever the other lanes hold (a lane already diagonal beside one
+// that needs several sweeps, repeated singular values, an inverted F, one
+// nearly singular F that takes the Jacobi SVD fallback), and agree with svd3.
+TEST(MpmLaws, FourAtOnceSvdGivesEachMatrixItsOwnSvd) {
+  Mat3 nearly_singular = sample_f(0);
+  nearly_singular.col(1) = nearly_singular.col(0) + 1e-7 * Vec3(0.3, -0.2, 0.1);
+  Mat3 inverted = sample_f(3);
+  inverted.col(2) *= -1;
+  const Mat3 batches[2][4] = {{sample_f(0), sample_f(1), sample_f(2), sample_f(3)},
+                              {inverted, nearly_singular, 2.5 * Mat3::Identity(), sample_f(0).transpose()}};
+  for (const auto& batch : batches) {
+    Svd3 four[4];
+    svd3x4(batch, four);
+    for (int l = 0; l < 4; ++l) {
+      const Mat3& f = batch[l];
+      const Svd3& s = four[l];
+      const Real scale = f.norm();
+      EXPECT_NEAR((compose(s) - f).norm(), 0.0, 1e-12 * scale) << l;
+      EXPECT_NEAR(s.u.determinant(), 1.0, 1e-12) << l;
+      EXPECT_NEAR(s.v.determinant(), 1.0, 1e-12) << l;
+      EXPECT_NEAR((s.v.transpose() * s.v - Mat3::Identity()).norm(), 0.0, 1e-12) << l;
+      const Svd3 one = svd3(f);
+      EXPECT_NEAR((s.sigma - one.sigma).norm(), 0.0, 1e-12 * scale) << l;
+      EXPECT_GE(s.sigma[0], s.sigma[1]) << l;
+      EXPECT_GE(s.sigma[1], std::abs(s.sigma[2])) << l;
+    }
+  }
+}
+
 TEST(MpmLaws, KirchhoffStressIsTheEnergyDerivative) {
   const Lame lame = Lame::from_young(1e4, 0.3);
   for (const ElasticLaw& law : {ElasticLaw(Hencky{lame}), ElasticLaw(FixedCorotated{lame})})

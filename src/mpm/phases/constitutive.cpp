@@ -3,6 +3,8 @@
 // heat and water terms of the next P2G (spec 2, 3.1–3.4, 4.2, 4.3).
 #include "mpm/solver.hpp"
 
+#include <algorithm>
+
 #include "core/parallel.hpp"
 #include "physics/constants.hpp"
 #include "physics/heat.hpp"
@@ -34,97 +36,107 @@ void MpmSolver::phase_plasticity(Real dt) {
               [&](const auto& plastic_law) {
                 using P = std::decay_t<decltype(plastic_law)>;
                 const std::vector<std::uint32_t>& members = material_members_[mi];
+                // Four particles at a time: their SVDs' Jacobi sweeps run as one on
+                // 4-lane vectors (svd3x4), the rest particle by particle.
                 parallel_for(
-                    members.size(),
-                    [&](std::size_t k) {
-                      const std::size_t i = members[k];
-                      const Real theta = temperature_[i];
-                      Mat3 f = deformation_gradient(i);
-                      Svd3 s = svd3(f);
-                      if constexpr (!std::is_same_v<P, NoPlasticity>) {
-                        P law = plastic_law;
-                        if (heat && mat.setting) {
-                          peak_temperature_[i] = std::max(peak_temperature_[i], theta);
-                          if (!gelatinized_[i] && mat.set.is_set(peak_temperature_[i]))
-                            gelatinized_[i] = 1, jp_set_[i] = jp_[i];
-                          const Real te = mat.set.property_temperature(theta, peak_temperature_[i]);
-                          law.yield_stress = mat.setting->yield_stress(te);
-                          law.viscosity = mat.setting->viscosity(te);
-                        }
-                        if constexpr (std::is_same_v<P, CamClay>) {
-                          if (heat && st.baseline)
-                            law.cohesion_slope = 0;  // baseline: no porosity in the yield surface
-                          // τ_y is a Cauchy stress: in Kirchhoff stress the surface grows with the
-                          // plastic dilation, so gas (whose Kirchhoff pressure n R θ / n_p barely
-                          // falls as pores grow) expands a dough to a finite size.
-                          law.yield_stress *= jp_[i];
-                          // Brittle set crust (a departure, docs/physics.md): dilation after setting weakens it.
-                          if (wet && mat.setting && gelatinized_[i]) {
-                            const Real water_lost =
-                                1 - water_[i] / (mat.water.saturation * mat.water.water_density * volume0_[i]);
-                            law.yield_stress *= mat.setting->softening_factor(jp_[i], jp_set_[i], water_lost);
+                    (members.size() + 3) / 4,
+                    [&](std::size_t chunk) {
+                      const std::size_t first = 4 * chunk, count = std::min<std::size_t>(4, members.size() - first);
+                      Mat3 trial[4];
+                      Svd3 trial_svd[4];
+                      for (std::size_t l = 0; l < 4; ++l)
+                        trial[l] = l < count ? deformation_gradient(members[first + l]) : Mat3::Identity();
+                      svd3x4(trial, trial_svd);
+                      for (std::size_t l = 0; l < count; ++l) {
+                        const std::size_t i = members[first + l];
+                        const Real theta = temperature_[i];
+                        Mat3 f = trial[l];
+                        Svd3 s = trial_svd[l];
+                        if constexpr (!std::is_same_v<P, NoPlasticity>) {
+                          P law = plastic_law;
+                          if (heat && mat.setting) {
+                            peak_temperature_[i] = std::max(peak_temperature_[i], theta);
+                            if (!gelatinized_[i] && mat.set.is_set(peak_temperature_[i]))
+                              gelatinized_[i] = 1, jp_set_[i] = jp_[i];
+                            const Real te = mat.set.property_temperature(theta, peak_temperature_[i]);
+                            law.yield_stress = mat.setting->yield_stress(te);
+                            law.viscosity = mat.setting->viscosity(te);
                           }
-                        }
-                        const Vec3 trial = s.sigma;
-                        s = return_map(law, mat.lame, dt, jp_[i], s);
-                        if (s.sigma != trial) {
-                          f = compose(s);
-                          set_deformation_gradient(i, f);
-                        }
-                        jp_[i] = j_[i] / s.sigma.prod();
-                      }
-                      Mat3 tau = kirchhoff_stress(elastic, f, s);
-                      if (heat) {
-                        const Real j = j_[i], volume = j * volume0_[i];
-                        Real kirchhoff_pressure = 0;
-                        if (expansion != 0) {
-                          const Real theta_ref = setup_.bodies[body_[i]].temperature;
-                          kirchhoff_pressure += j * expansion * (theta - theta_ref);
-                          // Spec 2: ρ c Dθ/Dt = −c λ θ_K ∇·v (mechanical time; ∇·v = tr C).
-                          const Real div_v = c0_[i].x() + c1_[i].y() + c2_[i].z();
-                          temperature_[i] -=
-                              dt * expansion * (theta + kZeroCelsius) * div_v * volume / heat_capacity_[i];
-                        }
-                        if (gas) {
-                          co2_[i] = mat.gas.generated(co2_[i], dtb, theta, mat.density);
-                          const Real jp_gas =
-                              Leavening::kirchhoff_pressure(co2_[i], theta, gas_porosity(jp_[i], mat.initial_porosity));
-                          gas_pressure_[i] = jp_gas / j;
-                          kirchhoff_pressure += jp_gas;
-                        }
-                        Real sat = 0;
-                        if (wet) {
-                          sat = water_[i] / (mat.water.water_density * volume);
-                          saturation_[i] = sat;
-                          kirchhoff_pressure += j * mat.water.pressure(sat);
-                          water_src_[i] = -mat.water.evaporation_flux_below(theta, sat, air_depth_[i]) * air_area_[i];
-                          water_vec_[i] = -(volume * mat.water.diffusion_coefficient(theta) * mat.water.water_density *
-                                            flux_scale) *
-                                          grad_s_[i];
-                          if (moist) {
-                            // physics/water.hpp: the vapour in equilibrium with the moisture,
-                            // its flux through the pores and what leaves through the surface.
-                            const PoreWater& pw = mat.moisture;
-                            const Real x = pw.moisture_of(water_[i], m_[i]);
-                            const Real rho_v = pw.vapour_density(theta, x);
-                            moisture_[i] = x;
-                            vapour_density_[i] = rho_v;
-                            vapour_src_[i] = -mass_transfer * (rho_v - air_vapour) * air_area_[i];
-                            const Real phi = pw.expanded_gas_fraction(j);  // risen dough holds more gas
-                            cell_k_[i] = pw.cell_conductivity(theta, x, phi) +
-                                         pw.drying_conductivity_change(mat.conductivity, x);
-                            vapour_vec_[i] =
-                                -(volume * pw.vapour_conductance(theta, phi) * flux_scale) * grad_vapour_[i];
+                          if constexpr (std::is_same_v<P, CamClay>) {
+                            if (heat && st.baseline)
+                              law.cohesion_slope = 0;  // baseline: no porosity in the yield surface
+                            // τ_y is a Cauchy stress: in Kirchhoff stress the surface grows with the
+                            // plastic dilation, so gas (whose Kirchhoff pressure n R θ / n_p barely
+                            // falls as pores grow) expands a dough to a finite size.
+                            law.yield_stress *= jp_[i];
+                            // Brittle set crust (a departure, docs/physics.md): dilation after setting weakens it.
+                            if (wet && mat.setting && gelatinized_[i]) {
+                              const Real water_lost =
+                                  1 - water_[i] / (mat.water.saturation * mat.water.water_density * volume0_[i]);
+                              law.yield_stress *= mat.setting->softening_factor(jp_[i], jp_set_[i], water_lost);
+                            }
                           }
+                          const Vec3 trial = s.sigma;
+                          s = return_map(law, mat.lame, dt, jp_[i], s);
+                          if (s.sigma != trial) {
+                            f = compose(s);
+                            set_deformation_gradient(i, f);
+                          }
+                          jp_[i] = j_[i] / s.sigma.prod();
                         }
-                        tau.diagonal().array() -= kirchhoff_pressure;
-                        heat_src_[i] = SurfaceExchange{exchange_[i], exchange_t_[i]}.heat_rate(temperature_[i]);
-                        heat_vec_[i] = -(volume * (mat.conductivity + cell_k_[i]) * flux_scale) * grad_theta_[i];
+                        Mat3 tau = kirchhoff_stress(elastic, f, s);
+                        if (heat) {
+                          const Real j = j_[i], volume = j * volume0_[i];
+                          Real kirchhoff_pressure = 0;
+                          if (expansion != 0) {
+                            const Real theta_ref = setup_.bodies[body_[i]].temperature;
+                            kirchhoff_pressure += j * expansion * (theta - theta_ref);
+                            // Spec 2: ρ c Dθ/Dt = −c λ θ_K ∇·v (mechanical time; ∇·v = tr C).
+                            const Real div_v = c0_[i].x() + c1_[i].y() + c2_[i].z();
+                            temperature_[i] -=
+                                dt * expansion * (theta + kZeroCelsius) * div_v * volume / heat_capacity_[i];
+                          }
+                          if (gas) {
+                            co2_[i] = mat.gas.generated(co2_[i], dtb, theta, mat.density);
+                            const Real jp_gas = Leavening::kirchhoff_pressure(
+                                co2_[i], theta, gas_porosity(jp_[i], mat.initial_porosity));
+                            gas_pressure_[i] = jp_gas / j;
+                            kirchhoff_pressure += jp_gas;
+                          }
+                          Real sat = 0;
+                          if (wet) {
+                            sat = water_[i] / (mat.water.water_density * volume);
+                            saturation_[i] = sat;
+                            kirchhoff_pressure += j * mat.water.pressure(sat);
+                            water_src_[i] = -mat.water.evaporation_flux_below(theta, sat, air_depth_[i]) * air_area_[i];
+                            water_vec_[i] = -(volume * mat.water.diffusion_coefficient(theta) *
+                                              mat.water.water_density * flux_scale) *
+                                            grad_s_[i];
+                            if (moist) {
+                              // physics/water.hpp: the vapour in equilibrium with the moisture,
+                              // its flux through the pores and what leaves through the surface.
+                              const PoreWater& pw = mat.moisture;
+                              const Real x = pw.moisture_of(water_[i], m_[i]);
+                              const Real rho_v = pw.vapour_density(theta, x);
+                              moisture_[i] = x;
+                              vapour_density_[i] = rho_v;
+                              vapour_src_[i] = -mass_transfer * (rho_v - air_vapour) * air_area_[i];
+                              const Real phi = pw.expanded_gas_fraction(j);  // risen dough holds more gas
+                              cell_k_[i] = pw.cell_conductivity(theta, x, phi) +
+                                           pw.drying_conductivity_change(mat.conductivity, x);
+                              vapour_vec_[i] =
+                                  -(volume * pw.vapour_conductance(theta, phi) * flux_scale) * grad_vapour_[i];
+                            }
+                          }
+                          tau.diagonal().array() -= kirchhoff_pressure;
+                          heat_src_[i] = SurfaceExchange{exchange_[i], exchange_t_[i]}.heat_rate(temperature_[i]);
+                          heat_vec_[i] = -(volume * (mat.conductivity + cell_k_[i]) * flux_scale) * grad_theta_[i];
+                        }
+                        tau_diag_[i] = tau.diagonal();
+                        tau_off_[i] = Vec3(tau(0, 1), tau(0, 2), tau(1, 2));
                       }
-                      tau_diag_[i] = tau.diagonal();
-                      tau_off_[i] = Vec3(tau(0, 1), tau(0, 2), tau(1, 2));
                     },
-                    1024);
+                    256);
               },
               mat.plastic);
         },
