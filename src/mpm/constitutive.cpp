@@ -38,11 +38,10 @@ namespace {
 namespace stdx = std::experimental;
 using Lanes = stdx::fixed_size_simd<Real, 4>;
 
-// A symmetric 3×3 matrix by its six entries and the rotation Q built up on it.
-template <class T>
+// Four symmetric 3×3 matrices by their six entries and the rotations Q built up on them.
 struct SymmetricJacobi {
-  T a00, a11, a22, a01, a02, a12;
-  T q[3][3];  // q[row][col]
+  Lanes a00, a11, a22, a01, a02, a12;
+  Lanes q[3][3];  // q[row][col]
 };
 
 // One Jacobi rotation in the (p, r) plane of a symmetric 3×3 matrix held as
@@ -51,34 +50,26 @@ struct SymmetricJacobi {
 // changes (a_pp, a_rr, a_kp, a_kr), with τ = s/(1 + c) for round-off
 // (Press et al., Numerical Recipes, §11.1): about a third of the operations
 // of turning the full matrix from both sides.
-template <int p, int r, class T>
-inline void jacobi_rotate(T& app, T& arr, T& apr, T& akp, T& akr, T (&q)[3][3]) {
-  using std::abs, std::sqrt;
-  T t;
-  if constexpr (std::is_same_v<T, Real>) {
-    if (apr == 0) return;
-    const Real theta = (arr - app) / (2 * apr);
-    t = (theta >= 0 ? 1 : -1) / (abs(theta) + sqrt(theta * theta + 1));
-  } else {
-    // Lanes whose a_pr is already zero turn by t = 0 (θ would be ±∞ or 0/0).
-    const auto zero = apr == 0;
-    T denominator = 2 * apr;
-    where(zero, denominator) = 1;
-    const T theta = (arr - app) / denominator;
-    T sign = 1;
-    where(theta < 0, sign) = -1;
-    t = sign / (abs(theta) + sqrt(theta * theta + 1));
-    where(zero, t) = 0;
-  }
-  const T c = 1 / sqrt(t * t + 1), s = t * c, tau = s / (1 + c);
+template <int p, int r>
+inline void jacobi_rotate(Lanes& app, Lanes& arr, Lanes& apr, Lanes& akp, Lanes& akr, Lanes (&q)[3][3]) {
+  // Lanes whose a_pr is already zero turn by t = 0 (θ would be ±∞ or 0/0).
+  const auto zero = apr == 0;
+  Lanes denominator = 2 * apr;
+  where(zero, denominator) = 1;
+  const Lanes theta = (arr - app) / denominator;
+  Lanes sign = 1;
+  where(theta < 0, sign) = -1;
+  Lanes t = sign / (abs(theta) + sqrt(theta * theta + 1));
+  where(zero, t) = 0;
+  const Lanes c = 1 / sqrt(t * t + 1), s = t * c, tau = s / (1 + c);
   app -= t * apr;
   arr += t * apr;
   apr = 0;  // zero by construction; round-off would only slow the stop
-  const T kp = akp, kr = akr;
+  const Lanes kp = akp, kr = akr;
   akp = kp - s * (kr + tau * kp);
   akr = kr + s * (kp - tau * kr);
   for (int i = 0; i < 3; ++i) {
-    const T qip = q[i][p], qir = q[i][r];
+    const Lanes qip = q[i][p], qir = q[i][r];
     q[i][p] = qip - s * (qir + tau * qip);
     q[i][r] = qir + s * (qip - tau * qir);
   }
@@ -89,73 +80,82 @@ inline void jacobi_rotate(T& app, T& arr, T& apr, T& akp, T& akr, T (&q)[3][3]) 
 // are close to rotations, so FᵀF is close to diagonal in a few rotations;
 // Jacobi is also accurate for nearly equal eigenvalues, where closed-form
 // solutions lose the eigenvectors.
-template <class T>
-void jacobi_sweeps(SymmetricJacobi<T>& m) {
+void jacobi_sweeps(SymmetricJacobi& m) {
   for (int sweep = 0; sweep < 12; ++sweep) {
-    const T off = m.a01 * m.a01 + m.a02 * m.a02 + m.a12 * m.a12;
-    const T diag = m.a00 * m.a00 + m.a11 * m.a11 + m.a22 * m.a22;
-    if constexpr (std::is_same_v<T, Real>) {
-      if (off <= 1e-24 * diag) break;
-    } else {
-      if (all_of(off <= 1e-24 * diag)) break;
-    }
+    const Lanes off = m.a01 * m.a01 + m.a02 * m.a02 + m.a12 * m.a12;
+    const Lanes diag = m.a00 * m.a00 + m.a11 * m.a11 + m.a22 * m.a22;
+    if (all_of(off <= 1e-24 * diag)) break;
     jacobi_rotate<0, 1>(m.a00, m.a11, m.a01, m.a02, m.a12, m.q);  // k = 2: a_k0 = a02, a_k1 = a12
     jacobi_rotate<0, 2>(m.a00, m.a22, m.a02, m.a01, m.a12, m.q);  // k = 1: a_k0 = a01, a_k2 = a12
     jacobi_rotate<1, 2>(m.a11, m.a22, m.a12, m.a01, m.a02, m.q);  // k = 0: a_k1 = a01, a_k2 = a02
   }
 }
 
-// F = U Σ Vᵀ from the eigen-decomposition FᵀF = Q diag(s²) Qᵀ: V = Q sorted
-// largest first, U = F V Σ⁻¹.
-Svd3 svd_from_eigen(const Mat3& f, const Mat3& q, const Vec3& s2) {
-  int order[3] = {0, 1, 2};
-  if (s2[order[0]] < s2[order[1]]) std::swap(order[0], order[1]);
-  if (s2[order[1]] < s2[order[2]]) std::swap(order[1], order[2]);
-  if (s2[order[0]] < s2[order[1]]) std::swap(order[0], order[1]);
-  const Real scale = s2[order[0]];
-  // Tiny singular values lose their relative accuracy when squared.
-  if (!(s2[order[2]] > 1e-8 * scale)) return jacobi_svd(f);
-  Svd3 out;
-  for (int k = 0; k < 3; ++k) {
-    out.v.col(k) = q.col(order[k]);
-    out.sigma[k] = std::sqrt(s2[order[k]]);
-  }
-  if (out.v.determinant() < 0) out.v.col(2) *= -1;
-  const Mat3 fv = f * out.v;
-  out.u.col(0) = fv.col(0) / out.sigma[0];
-  Vec3 u1 = fv.col(1) - out.u.col(0).dot(fv.col(1)) * out.u.col(0);  // Gram–Schmidt against round-off
-  out.u.col(1) = u1 / u1.norm();
-  // Third column by the cross product keeps U a rotation; its sign gives det F.
-  out.u.col(2) = out.u.col(0).cross(out.u.col(1));
-  out.sigma[2] = out.u.col(2).dot(fv.col(2));
-  return out;
-}
-
 }  // namespace
 
 Svd3 svd3(const Mat3& f) {
-  const Mat3 a = f.transpose() * f;
-  SymmetricJacobi<Real> m{a(0, 0), a(1, 1), a(2, 2), a(0, 1), a(0, 2), a(1, 2), {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
-  jacobi_sweeps(m);
-  Mat3 q;
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) q(i, j) = m.q[i][j];
-  return svd_from_eigen(f, q, Vec3(m.a00, m.a11, m.a22));
+  const Mat3 four[4] = {f, f, f, f};
+  Svd3 out[4];
+  svd3x4(four, out);
+  return out[0];
 }
 
 void svd3x4(const Mat3 (&f)[4], Svd3 (&out)[4]) {
-  Mat3 a[4];
-  for (int l = 0; l < 4; ++l) a[l] = f[l].transpose() * f[l];
-  const auto entry = [&](int i, int j) { return Lanes([&](auto l) { return a[l](i, j); }); };
-  SymmetricJacobi<Lanes> m{entry(0, 0), entry(1, 1), entry(2, 2), entry(0, 1), entry(0, 2), entry(1, 2), {}};
+  // F's entries lane by lane, and FᵀF.
+  Lanes fl[3][3];
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) fl[i][j] = Lanes([&](auto l) { return f[l](i, j); });
+  const auto gram = [&](int i, int j) { return fl[0][i] * fl[0][j] + fl[1][i] * fl[1][j] + fl[2][i] * fl[2][j]; };
+  SymmetricJacobi m{gram(0, 0), gram(1, 1), gram(2, 2), gram(0, 1), gram(0, 2), gram(1, 2), {}};
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) m.q[i][j] = i == j ? 1 : 0;
   jacobi_sweeps(m);
+  // Lane by lane: eigenvalues sorted largest first with
+  // their columns of Q (three compare-and-swaps), V = Q made a rotation,
+  // U = F V Σ⁻¹ with Gram–Schmidt and a cross product.
+  Lanes s2[3] = {m.a00, m.a11, m.a22};
+  Lanes(&v)[3][3] = m.q;
+  const auto order = [&](int a, int b) {
+    const auto swap = s2[a] < s2[b];
+    const Lanes sa = s2[a];
+    where(swap, s2[a]) = s2[b];
+    where(swap, s2[b]) = sa;
+    for (int i = 0; i < 3; ++i) {
+      const Lanes va = v[i][a];
+      where(swap, v[i][a]) = v[i][b];
+      where(swap, v[i][b]) = va;
+    }
+  };
+  order(0, 1), order(1, 2), order(0, 1);
+  const Lanes det_v = v[0][0] * (v[1][1] * v[2][2] - v[2][1] * v[1][2]) -
+                      v[0][1] * (v[1][0] * v[2][2] - v[2][0] * v[1][2]) +
+                      v[0][2] * (v[1][0] * v[2][1] - v[2][0] * v[1][1]);
+  for (int i = 0; i < 3; ++i) where(det_v < 0, v[i][2]) = -v[i][2];
+  // Tiny singular values lose their relative accuracy when squared: those lanes take the Jacobi SVD.
+  const auto tiny = !(s2[2] > 1e-8 * s2[0]);
+  Lanes fv[3][3];  // F V
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 3; ++k) fv[i][k] = fl[i][0] * v[0][k] + fl[i][1] * v[1][k] + fl[i][2] * v[2][k];
+  const Lanes sigma0 = sqrt(s2[0]), sigma1 = sqrt(s2[1]);
+  Lanes u[3][3];
+  for (int i = 0; i < 3; ++i) u[i][0] = fv[i][0] / sigma0;
+  const Lanes along = u[0][0] * fv[0][1] + u[1][0] * fv[1][1] + u[2][0] * fv[2][1];
+  for (int i = 0; i < 3; ++i) u[i][1] = fv[i][1] - along * u[i][0];  // Gram–Schmidt against round-off
+  const Lanes norm1 = sqrt(u[0][1] * u[0][1] + u[1][1] * u[1][1] + u[2][1] * u[2][1]);
+  for (int i = 0; i < 3; ++i) u[i][1] /= norm1;
+  // Third column by the cross product keeps U a rotation; its sign gives det F.
+  u[0][2] = u[1][0] * u[2][1] - u[2][0] * u[1][1];
+  u[1][2] = u[2][0] * u[0][1] - u[0][0] * u[2][1];
+  u[2][2] = u[0][0] * u[1][1] - u[1][0] * u[0][1];
+  const Lanes sigma2 = u[0][2] * fv[0][2] + u[1][2] * fv[1][2] + u[2][2] * fv[2][2];
   for (int l = 0; l < 4; ++l) {
-    Mat3 q;
+    if (tiny[l]) {
+      out[l] = jacobi_svd(f[l]);
+      continue;
+    }
     for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) q(i, j) = m.q[i][j][l];
-    out[l] = svd_from_eigen(f[l], q, Vec3(m.a00[l], m.a11[l], m.a22[l]));
+      for (int k = 0; k < 3; ++k) out[l].u(i, k) = u[i][k][l], out[l].v(i, k) = v[i][k][l];
+    out[l].sigma = Vec3(sigma0[l], sigma1[l], sigma2[l]);
   }
 }
 

@@ -25,10 +25,11 @@ struct Svd3 {
   Mat3 u, v;
   Vec3 sigma;
 };
+// svd3 is svd3x4 with f in every lane.
 Svd3 svd3(const Mat3& f);
-// The SVDs of four matrices at once (the Jacobi sweeps run on 4-lane vectors,
-// one matrix per lane, until every lane has converged); each result is within
-// round-off of svd3 of its matrix.
+// The SVDs of four matrices at once (Jacobi sweeps, sort and U on 4-lane
+// vectors, one matrix per lane, until every lane has converged); each result
+// is within round-off of svd3 of its matrix.
 void svd3x4(const Mat3 (&f)[4], Svd3 (&out)[4]);
 
 // ψ = μ tr(ε²) + ½ λ (tr ε)², ε = log σ (Hencky strain); τ = U (2μ ε + λ tr ε I) Uᵀ.
