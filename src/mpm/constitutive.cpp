@@ -12,7 +12,10 @@ namespace bakesim::mpm {
 
 namespace {
 
-Svd3 jacobi_svd(const Mat3& f) {
+// The rare fallback for a nearly singular F, kept out of line: inlined into
+// svd3x4's lane loop it made the hot function larger, and GCC 12 warned of
+// JacobiSVD's singular values as maybe uninitialised (a false positive).
+[[gnu::noinline]] Svd3 jacobi_svd(const Mat3& f) {
   Eigen::JacobiSVD<Mat3> s(f, Eigen::ComputeFullU | Eigen::ComputeFullV);
   Svd3 out{s.matrixU(), s.matrixV(), s.singularValues()};
   // Rotations only: move a reflection into the smallest singular value.

@@ -36,22 +36,22 @@ void MpmSolver::phase_plasticity(Real dt) {
               [&](const auto& plastic_law) {
                 using P = std::decay_t<decltype(plastic_law)>;
                 const std::vector<std::uint32_t>& members = material_members_[mi];
-                // Four particles at a time: their SVDs' Jacobi sweeps run as one on
-                // 4-lane vectors (svd3x4), the rest particle by particle.
+                // Four particles at a time: their SVDs run as one on 4-lane vectors
+                // (svd3x4), the plastic return and the stress particle by particle.
                 parallel_for(
                     (members.size() + 3) / 4,
                     [&](std::size_t chunk) {
                       const std::size_t first = 4 * chunk, count = std::min<std::size_t>(4, members.size() - first);
-                      Mat3 trial[4];
-                      Svd3 trial_svd[4];
+                      Mat3 chunk_f[4];
+                      Svd3 chunk_svd[4];
                       for (std::size_t l = 0; l < 4; ++l)
-                        trial[l] = l < count ? deformation_gradient(members[first + l]) : Mat3::Identity();
-                      svd3x4(trial, trial_svd);
+                        chunk_f[l] = l < count ? deformation_gradient(members[first + l]) : Mat3::Identity();
+                      svd3x4(chunk_f, chunk_svd);
                       for (std::size_t l = 0; l < count; ++l) {
                         const std::size_t i = members[first + l];
                         const Real theta = temperature_[i];
-                        Mat3 f = trial[l];
-                        Svd3 s = trial_svd[l];
+                        Mat3 f = chunk_f[l];
+                        Svd3 s = chunk_svd[l];
                         if constexpr (!std::is_same_v<P, NoPlasticity>) {
                           P law = plastic_law;
                           if (heat && mat.setting) {
