@@ -25,7 +25,7 @@ double done_core_degc(const nlohmann::json& scene);
 double done_core_degc(const std::filesystem::path& run_dir);
 
 // The doneness line of the plots at `level` °C from `from` to `to` (bake minutes), dashed.
-Series doneness_series(double from, double to, double level = kDoneCoreDegC);
+Series doneness_series(double from, double to, double level);
 
 struct BodyResults {
   std::string name;

@@ -24,7 +24,8 @@ void MpmSolver::g2p(Real dt) {
   const Vec3 origin = grid_origin_;
   const std::size_t nz = nz_, syz = std::size_t(ny_) * nz_;
   const Real d_inv = 4.0 * inv_dx_;  // D⁻¹ (x_i − x_p) with offsets in cells: 4/Δx² · Δx
-  const Vec3 domain_lo = setup_.domain.min, domain_hi = setup_.domain.max;
+  const Aabb domain = setup_.domain;
+  const bool periodic = periodicity_.any();
   const GridNode* const grid = grid_.data();
   const HeatState* const heat = heat_state_.data();
   if constexpr (kThermal) face_depth_.resize(x_.size());
@@ -46,9 +47,9 @@ void MpmSolver::g2p(Real dt) {
         set_deformation_gradient(p, df * deformation_gradient(p));
         j_[p] *= df.determinant();
         x_[p] += dt * vp;
-        // Nearly every point stays inside the domain: one test before the full treatment.
-        if (!((x_[p].array() >= domain_lo.array()).all() && (x_[p].array() < domain_hi.array()).all()))
-          push_inside_domain(p);
+        // Nearly every point stays inside the domain: one test before the full treatment
+        // (which a periodic domain always needs, to wrap points that left it).
+        if (periodic || !domain.contains(x_[p])) push_inside_domain(p);
         if (!near_collider_.empty()) {
           // The node nearest the particle's old position (it moves less than a cell).
           const std::size_t nearest =
