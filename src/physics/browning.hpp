@@ -29,8 +29,15 @@ struct BrowningKinetics {
     return rate_constant * std::exp(-activation_energy / (kGasConstant * (temperature_c + kZeroCelsius)));
   }
   // Exact over a step at constant temperature: B ← 1 − (1 − B) e^{−k Δt}.
+  // Nearly every step is short against browning's time scale (k Δt stays
+  // below 1e-3 on 0.03 s of bake, a bake clock's step, up to a 276 °C face),
+  // and there e^{−x} is its series to x⁴: the first term left out, x⁵/120, is
+  // below 1e-17, under the double's round-off; one exp call less a particle
+  // and step.
   Real advance(Real index, Real temperature_c, Real dt_bake) const {
-    return 1.0 - (1.0 - index) * std::exp(-rate(temperature_c) * dt_bake);
+    const Real x = rate(temperature_c) * dt_bake;
+    const Real decay = x < 1e-3 ? 1 - x * (1 - x * (0.5 - x * (1.0 / 6 - x * (1.0 / 24)))) : std::exp(-x);
+    return 1.0 - (1.0 - index) * decay;
   }
   Real colour_difference(Real index) const { return index * max_colour_difference; }
   // Over one step where the surface is above `from` °C, else unchanged. Moist

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <utility>
 
+#include "physics/browning.hpp"
 #include "physics/bubbles.hpp"
 #include "physics/heat.hpp"
 #include "physics/maxwell.hpp"
@@ -171,6 +172,27 @@ TEST(SetCrustSoftening, ActsOnlyOnDilationAfterSettingOfADriedParticle) {
   EXPECT_NEAR(sc.softening_factor(1.32, 1.2, 0.03), std::exp(-30 * 0.1), 1e-12);
   // Monotone: more dilation, weaker.
   EXPECT_LT(sc.softening_factor(1.4, 1.2, 0.1), sc.softening_factor(1.3, 1.2, 0.1));
+}
+
+// Short steps take e^{-x} from its series (physics/browning.hpp): each step
+// must agree with the exponential to round-off on both sides of the switch,
+// and a thousand short steps must add up to the closed form 1 - e^{-k t}.
+TEST(BrowningKinetics, ShortStepsAgreeWithTheExponentialToRoundOff) {
+  const BrowningKinetics zanoni;
+  const double index = 0.3;
+  for (const double celsius : {20.0, 100.0, 150.0, 200.0, 250.0, 300.0})
+    for (const double x : {1e-12, 1e-8, 1e-5, 3e-4, 0.999e-3, 1.001e-3, 1e-2}) {
+      const double dt = x / zanoni.rate(celsius);
+      const double exact = 1.0 - (1.0 - index) * std::exp(-x);
+      EXPECT_NEAR(zanoni.advance(index, celsius, dt), exact, 2e-16) << celsius << " degC, k dt " << x;
+    }
+  const double celsius = 180.0, t = 500.0;
+  double b = 0;
+  for (int k = 0; k < 1000; ++k) b = zanoni.advance(b, celsius, t / 1000);
+  EXPECT_GT(zanoni.rate(celsius) * t / 1000, 1e-4);  // the series' range, not its trivial end
+  EXPECT_LT(zanoni.rate(celsius) * t / 1000, 1e-3);
+  // A thousand steps' round-off (a few 1e-16 each) either way.
+  EXPECT_NEAR(b, 1.0 - std::exp(-zanoni.rate(celsius) * t), 2e-13);
 }
 
 TEST(Leavening, GenerationStopsWhenTheLeavenerIsSpent) {
