@@ -5,6 +5,7 @@
 #include <Eigen/LU>
 #include <Eigen/SVD>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <experimental/simd>
 
@@ -52,9 +53,12 @@ struct SymmetricJacobi {
 // of Q with it. The update is the textbook one on the entries the rotation
 // changes (a_pp, a_rr, a_kp, a_kr), with τ = s/(1 + c) for round-off
 // (Press et al., Numerical Recipes, §11.1): about a third of the operations
-// of turning the full matrix from both sides.
+// of turning the full matrix from both sides. Forced inline: GCC 12 left the
+// three calls of a sweep out of line in the native build (55 instructions a
+// particle and step each, their lanes passed through memory).
 template <int p, int r>
-inline void jacobi_rotate(Lanes& app, Lanes& arr, Lanes& apr, Lanes& akp, Lanes& akr, Lanes (&q)[3][3]) {
+[[gnu::always_inline]] inline void jacobi_rotate(Lanes& app, Lanes& arr, Lanes& apr, Lanes& akp, Lanes& akr,
+                                                 Lanes (&q)[3][3]) {
   // Lanes whose a_pr is already zero turn by t = 0 (θ would be ±∞ or 0/0).
   const auto zero = apr == 0;
   Lanes denominator = 2 * apr;
@@ -162,11 +166,70 @@ void svd3x4(const Mat3 (&f)[4], Svd3 (&out)[4]) {
   }
 }
 
+Vec3 hencky_strain(const Vec3& sigma) { return sigma.cwiseAbs().array().max(1e-12).log().matrix(); }
+
+namespace {
+
+// ln x on four lanes for x in [1/√2, √2], where an elastic stretch nearly
+// always lies: ln x = 2 atanh s = 2 (s + s³/3 + s⁵/5 + …), s = (x − 1)/(x + 1),
+// |s| ≤ 0.172; the series to s²¹/21 leaves out under 1e-18 of ln x, and x − 1
+// is exact there, so the result is within round-off of std::log.
+Lanes log_near_one(const Lanes& x) {
+  const Lanes s = (x - 1) / (x + 1), z = s * s;
+  Lanes sum = Real(1) / 21;
+  for (int k = 9; k >= 0; --k) sum = sum * z + Real(1) / (2 * k + 1);
+  return 2 * s * sum;
+}
+
+// e^x on four lanes for |x| ≤ 1/2, where an elastic strain nearly always
+// lies: the Taylor series to x¹⁷/17! (Horner on 1/k!) leaves out under 1e-21
+// of e^x.
+Lanes exp_near_zero(const Lanes& x) {
+  constexpr auto inverse_factorials = [] {
+    std::array<Real, 18> c{};
+    c[0] = 1;
+    for (int k = 1; k < 18; ++k) c[k] = c[k - 1] / k;
+    return c;
+  }();
+  Lanes sum = inverse_factorials[17];
+  for (int k = 16; k >= 0; --k) sum = sum * x + inverse_factorials[k];
+  return sum;
+}
+
+}  // namespace
+
+void hencky_stretch_x4(const Vec3 (&strain)[4], Vec3 (&sigma)[4]) {
+  for (int i = 0; i < 3; ++i) {
+    const Lanes x([&](auto l) { return strain[l][i]; });
+    if (all_of(abs(x) <= Real(0.5))) {
+      const Lanes e = exp_near_zero(x);
+      for (int l = 0; l < 4; ++l) sigma[l][i] = e[l];
+    } else {  // a large strain in some lane: the library's exponential for this axis
+      for (int l = 0; l < 4; ++l) sigma[l][i] = std::exp(x[l]);
+    }
+  }
+}
+
+void hencky_strain_x4(const Svd3 (&svd)[4], Vec3 (&strain)[4]) {
+  constexpr Real kLow = 0.70710678118654752, kHigh = 1.4142135623730950;
+  for (int i = 0; i < 3; ++i) {
+    const Lanes x([&](auto l) { return std::abs(svd[l].sigma[i]); });
+    if (all_of(x >= kLow && x <= kHigh)) {
+      const Lanes e = log_near_one(x);
+      for (int l = 0; l < 4; ++l) strain[l][i] = e[l];
+    } else {  // a large stretch in some lane: the library's logarithm for this axis
+      for (int l = 0; l < 4; ++l) strain[l][i] = std::log(std::max(x[l], Real(1e-12)));
+    }
+  }
+}
+
+Mat3 hencky_stress(const Lame& lame, const Vec3& strain, const Mat3& u) {
+  const Vec3 t = (2 * lame.mu * strain).array() + lame.lambda * strain.sum();
+  return u * t.asDiagonal() * u.transpose();
+}
+
 Mat3 kirchhoff_stress(const Hencky& law, const Mat3&, const Svd3& svd) {
-  const Vec3 eps = svd.sigma.cwiseAbs().array().log().matrix();
-  const Real tr = eps.sum();
-  const Vec3 t = (2 * law.lame.mu * eps).array() + law.lame.lambda * tr;
-  return svd.u * t.asDiagonal() * svd.u.transpose();
+  return hencky_stress(law.lame, hencky_strain(svd.sigma), svd.u);
 }
 
 Mat3 kirchhoff_stress(const FixedCorotated& law, const Mat3& f, const Svd3& svd) {
@@ -197,15 +260,14 @@ namespace {
 // (p − p_tr)²/(2K) + (q − q_tr)²/(6μ) on f = 0 gives p = p_tr / (1 + 2KAΔγ),
 // q = q_tr / (1 + 6μΔγ); f(Δγ) is convex and decreasing, so Newton from
 // Δγ = 0 approaches its root monotonically from below.
-Svd3 ellipse_return(Real yield, Real viscosity, Real a, const Lame& lame, Real dt, const Svd3& svd) {
-  const Vec3 eps = svd.sigma.cwiseAbs().array().max(1e-12).log().matrix();
+bool ellipse_return(Real yield, Real viscosity, Real a, const Lame& lame, Real dt, Vec3& eps) {
   const Real bulk = lame.lambda + 2 * lame.mu / 3;
   const Real tr = eps.sum();
   const Vec3 dev = eps.array() - tr / 3;
   const Real p_tr = -bulk * tr;
   const Real q_tr = std::sqrt(1.5) * 2 * lame.mu * dev.norm();
   const Real y2 = yield * yield;
-  if (q_tr * q_tr + a * p_tr * p_tr <= y2) return svd;
+  if (q_tr * q_tr + a * p_tr * p_tr <= y2) return false;
   Real p, q;
   if (yield <= 0) {
     q = 0;
@@ -230,27 +292,27 @@ Svd3 ellipse_return(Real yield, Real viscosity, Real a, const Lame& lame, Real d
   const Real p_new = p + keep * (p_tr - p), q_new = q + keep * (q_tr - q);
   const Vec3 dev_new = q_tr > 0 ? Vec3(dev * (q_new / q_tr)) : dev;
   const Real tr_new = -p_new / bulk;
-  return Svd3{svd.u, svd.v, (dev_new.array() + tr_new / 3).exp().matrix()};
+  eps = dev_new.array() + tr_new / 3;
+  return true;
 }
 
 }  // namespace
 
-Svd3 return_map(const VonMises& law, const Lame& lame, Real dt, Real, const Svd3& svd) {
-  return ellipse_return(law.yield_stress, law.viscosity, 0, lame, dt, svd);
+bool return_strain(const VonMises& law, const Lame& lame, Real dt, Real, Vec3& strain) {
+  return ellipse_return(law.yield_stress, law.viscosity, 0, lame, dt, strain);
 }
 
-Svd3 return_map(const HerschelBulkleyFlow& law, const Lame& lame, Real dt, Real, const Svd3& svd) {
-  const Vec3 eps = svd.sigma.cwiseAbs().array().max(1e-12).log().matrix();
-  const Real tr = eps.sum();
-  const Vec3 dev = eps.array() - tr / 3;
+bool return_strain(const HerschelBulkleyFlow& law, const Lame& lame, Real dt, Real, Vec3& strain) {
+  const Real tr = strain.sum();
+  const Vec3 dev = strain.array() - tr / 3;
   // Shear stress equivalent √(J₂) = q/√3 = √2 μ |dev ε| of the trial state.
   const Real tau_trial = std::sqrt(2.0) * lame.mu * dev.norm();
   const Real overstress = tau_trial - law.yield_stress;
-  if (overstress <= 0) return svd;
+  if (overstress <= 0) return false;
   const HerschelBulkley flow{law.yield_stress, law.viscosity, law.flow_index};
   const Real tau = law.yield_stress + flow.relaxed_overstress(overstress, lame.mu, dt);
-  const Vec3 dev_new = dev * (tau / tau_trial);  // radial return: pressure unchanged
-  return Svd3{svd.u, svd.v, (dev_new.array() + tr / 3).exp().matrix()};
+  strain = (dev * (tau / tau_trial)).array() + tr / 3;  // radial return: pressure unchanged
+  return true;
 }
 
 Real CamClay::porosity(Real plastic_j) const {
@@ -262,8 +324,27 @@ Real CamClay::a(Real plastic_j) const {
   return cohesion_slope * n / (1 - n);
 }
 
+bool return_strain(const CamClay& law, const Lame& lame, Real dt, Real plastic_j, Vec3& strain) {
+  return ellipse_return(law.yield_stress, law.viscosity, law.a(plastic_j), lame, dt, strain);
+}
+
+namespace {
+template <class Law>
+Svd3 return_on_svd(const Law& law, const Lame& lame, Real dt, Real plastic_j, const Svd3& svd) {
+  Vec3 strain = hencky_strain(svd.sigma);
+  if (!return_strain(law, lame, dt, plastic_j, strain)) return svd;
+  return Svd3{svd.u, svd.v, strain.array().exp().matrix()};
+}
+}  // namespace
+
+Svd3 return_map(const VonMises& law, const Lame& lame, Real dt, Real plastic_j, const Svd3& svd) {
+  return return_on_svd(law, lame, dt, plastic_j, svd);
+}
 Svd3 return_map(const CamClay& law, const Lame& lame, Real dt, Real plastic_j, const Svd3& svd) {
-  return ellipse_return(law.yield_stress, law.viscosity, law.a(plastic_j), lame, dt, svd);
+  return return_on_svd(law, lame, dt, plastic_j, svd);
+}
+Svd3 return_map(const HerschelBulkleyFlow& law, const Lame& lame, Real dt, Real plastic_j, const Svd3& svd) {
+  return return_on_svd(law, lame, dt, plastic_j, svd);
 }
 
 Real yield_function(const CamClay& law, Real plastic_j, const Vec3& tau) {

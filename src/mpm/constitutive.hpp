@@ -45,6 +45,19 @@ using ElasticLaw = std::variant<Hencky, FixedCorotated>;
 // Kirchhoff stress of an elastic law at F (and its SVD). The solver calls the
 // overload of the material's law inside one std::visit per material group.
 Mat3 kirchhoff_stress(const Hencky& law, const Mat3& f, const Svd3& svd);
+// The principal Hencky strains ε = log|σ| (|σ| at least 1e-12), and the Hencky
+// stress from them and U: what the solver computes once per particle for the
+// plastic return and the stress (each took its own logarithms before).
+Vec3 hencky_strain(const Vec3& sigma);
+// The same for four SVDs at once (the constitutive phase's chunk): their
+// logarithms on 4-lane vectors where every stretch of an axis lies within
+// [1/√2, √2], within round-off of hencky_strain.
+void hencky_strain_x4(const Svd3 (&svd)[4], Vec3 (&strain)[4]);
+// Back from strains to stretches, σ = e^ε, four at once: a series on 4-lane
+// vectors where every strain of an axis lies within ±1/2, within round-off of
+// std::exp.
+void hencky_stretch_x4(const Vec3 (&strain)[4], Vec3 (&sigma)[4]);
+Mat3 hencky_stress(const Lame& lame, const Vec3& strain, const Mat3& u);
 Mat3 kirchhoff_stress(const FixedCorotated& law, const Mat3& f, const Svd3& svd);
 Mat3 kirchhoff_stress(const ElasticLaw& law, const Mat3& f, const Svd3& svd);
 // Energy density ψ(F) (for tests against finite differences).
@@ -90,6 +103,11 @@ using PlasticLaw = std::variant<NoPlasticity, VonMises, CamClay, HerschelBulkley
 Svd3 return_map(const VonMises& law, const Lame& lame, Real dt, Real plastic_j, const Svd3& svd);
 Svd3 return_map(const CamClay& law, const Lame& lame, Real dt, Real plastic_j, const Svd3& svd);
 Svd3 return_map(const HerschelBulkleyFlow& law, const Lame& lame, Real dt, Real plastic_j, const Svd3& svd);
+// The same returns on the principal Hencky strains of the trial F^E: true, with
+// the strains projected, where the law yielded; false, untouched, where not.
+bool return_strain(const VonMises& law, const Lame& lame, Real dt, Real plastic_j, Vec3& strain);
+bool return_strain(const CamClay& law, const Lame& lame, Real dt, Real plastic_j, Vec3& strain);
+bool return_strain(const HerschelBulkleyFlow& law, const Lame& lame, Real dt, Real plastic_j, Vec3& strain);
 // Yield function f(τ) of a principal Kirchhoff stress (for tests).
 Real yield_function(const CamClay& law, Real plastic_j, const Vec3& principal_tau);
 inline Mat3 compose(const Svd3& s) { return s.u * s.sigma.asDiagonal() * s.v.transpose(); }

@@ -36,8 +36,9 @@ void MpmSolver::phase_plasticity(Real dt) {
               [&](const auto& plastic_law) {
                 using P = std::decay_t<decltype(plastic_law)>;
                 const std::vector<std::uint32_t>& members = material_members_[mi];
-                // Four particles at a time: their SVDs run as one on 4-lane vectors
-                // (svd3x4), the plastic return and the stress particle by particle.
+                // Four particles at a time: their SVDs, Hencky strains and returned
+                // stretches run as one on 4-lane vectors (svd3x4, hencky_strain_x4,
+                // hencky_stretch_x4), the plastic return and the stress particle by particle.
                 parallel_for(
                     (members.size() + 3) / 4,
                     [&](std::size_t chunk) {
@@ -47,12 +48,17 @@ void MpmSolver::phase_plasticity(Real dt) {
                       for (std::size_t l = 0; l < 4; ++l)
                         chunk_f[l] = l < count ? deformation_gradient(members[first + l]) : Mat3::Identity();
                       svd3x4(chunk_f, chunk_svd);
-                      for (std::size_t l = 0; l < count; ++l) {
-                        const std::size_t i = members[first + l];
-                        const Real theta = temperature_[i];
-                        Mat3 f = chunk_f[l];
-                        Svd3 s = chunk_svd[l];
-                        if constexpr (!std::is_same_v<P, NoPlasticity>) {
+                      // Hencky: the principal strains once, for the return and the stress.
+                      constexpr bool kHencky = std::is_same_v<std::decay_t<decltype(elastic)>, Hencky>;
+                      Vec3 chunk_strain[4];
+                      if constexpr (kHencky) hencky_strain_x4(chunk_svd, chunk_strain);
+                      // The plastic return on each particle's strains (its Newton solve is
+                      // scalar), then the new stretches e^ε of the four at once.
+                      if constexpr (!std::is_same_v<P, NoPlasticity>) {
+                        bool yielded[4] = {false, false, false, false};
+                        for (std::size_t l = 0; l < count; ++l) {
+                          const std::size_t i = members[first + l];
+                          const Real theta = temperature_[i];
                           P law = plastic_law;
                           if (heat && mat.setting) {
                             peak_temperature_[i] = std::max(peak_temperature_[i], theta);
@@ -76,15 +82,43 @@ void MpmSolver::phase_plasticity(Real dt) {
                               law.yield_stress *= mat.setting->softening_factor(jp_[i], jp_set_[i], water_lost);
                             }
                           }
-                          const Vec3 trial = s.sigma;
-                          s = return_map(law, mat.lame, dt, jp_[i], s);
-                          if (s.sigma != trial) {
-                            f = compose(s);
-                            set_deformation_gradient(i, f);
+                          if constexpr (kHencky) {
+                            yielded[l] = return_strain(law, mat.lame, dt, jp_[i], chunk_strain[l]);
+                          } else {  // refused by the scene check (plasticity needs Hencky); kept general
+                            Svd3& s = chunk_svd[l];
+                            const Vec3 trial = s.sigma;
+                            s = return_map(law, mat.lame, dt, jp_[i], s);
+                            if (s.sigma != trial) chunk_f[l] = compose(s), set_deformation_gradient(i, chunk_f[l]);
                           }
-                          jp_[i] = j_[i] / s.sigma.prod();
                         }
-                        Mat3 tau = kirchhoff_stress(elastic, f, s);
+                        if constexpr (kHencky) {
+                          if (yielded[0] || yielded[1] || yielded[2] || yielded[3]) {
+                            Vec3 returned[4], stretch[4];
+                            for (int l = 0; l < 4; ++l) returned[l] = yielded[l] ? chunk_strain[l] : Vec3::Zero();
+                            hencky_stretch_x4(returned, stretch);
+                            for (std::size_t l = 0; l < count; ++l)
+                              if (yielded[l]) {
+                                chunk_svd[l].sigma = stretch[l];
+                                set_deformation_gradient(members[first + l], compose(chunk_svd[l]));
+                              }
+                          }
+                        }
+                        for (std::size_t l = 0; l < count; ++l) {
+                          const std::size_t i = members[first + l];
+                          jp_[i] = j_[i] / chunk_svd[l].sigma.prod();
+                        }
+                      }
+                      for (std::size_t l = 0; l < count; ++l) {
+                        const std::size_t i = members[first + l];
+                        const Real theta = temperature_[i];
+                        const Mat3& f = chunk_f[l];
+                        const Svd3& s = chunk_svd[l];
+                        const Vec3& strain = chunk_strain[l];
+                        Mat3 tau;
+                        if constexpr (kHencky)
+                          tau = hencky_stress(elastic.lame, strain, s.u);
+                        else
+                          tau = kirchhoff_stress(elastic, f, s);
                         if (heat) {
                           const Real j = j_[i], volume = j * volume0_[i];
                           Real kirchhoff_pressure = 0;
