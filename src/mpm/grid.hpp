@@ -54,18 +54,21 @@ struct HeatSums {
 };
 
 // What the grid update leaves on a node for G2P and the implicit heat solve.
+// G2P takes the first moments (gradients, the face's centroid) of the fields
+// of the first two 4-lane vectors only (mpm/transfer.hpp): the last vector
+// holds the fields it needs as sums alone.
 struct HeatState {
-  Real dtheta;          // Δθ of this step (FLIP increment), K
   Real theta;           // θ after the step, °C
+  Real saturation;      // s of the node, for the next water flux
+  Real vapour_density;  // ρ_v of the node, for the next vapour flux, kg/m³
+  Real air_area;        // area facing the air per volume, 1/m
+  Real fill;            // φ = V / Δx³, the volume fraction whose level 1/2 is the face
+  Real dtheta;          // Δθ of this step (FLIP increment), K
   Real exchange;        // Σ a β / V: boundary conductance per volume, W/(K m³)
   Real exchange_theta;  // Σ a β θ_out / V, W/m³
   Real exchange_area;   // Σ a / V over the faces that exchange (air and hot colliders), 1/m
-  Real fill;            // φ = V / Δx³, the volume fraction whose level 1/2 is the face
   Real water_ratio;     // r = Δt ΔW / W (never below −1)
-  Real saturation;      // s of the node, for the next water flux
-  Real air_area;        // area facing the air per volume, 1/m
   Real vapour_ratio;    // r_v = Δt ΔW_v / W (r + r_v never below −1)
-  Real vapour_density;  // ρ_v of the node, for the next vapour flux, kg/m³
   Real unused = 0;      // pads the record to three 4-lane vectors (mpm/transfer.hpp)
 };
 

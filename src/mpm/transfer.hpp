@@ -58,32 +58,40 @@ struct StencilMoments {
   Lane4 sum[N], x[N], y[N], z[N];
 };
 
-template <class Node, int N = kLanes<Node>>
+// M: how many of the record's vectors need their moments; the rest are
+// summed only (their moments come back zero), a third of the work for them.
+template <int M, class Node, int N = kLanes<Node>>
 inline StencilMoments<N> gather_moments(const Node* grid, const Stencil& st) {
+  static_assert(M >= 0 && M <= N, "moments of at most the record's vectors");
   const Axis& az = st.z;
   const Real wz_oz[3] = {az.w[0] * (0 - az.frac), az.w[1] * (1 - az.frac), az.w[2] * (2 - az.frac)};
   StencilMoments<N> m;
   for (int l = 0; l < N; ++l) m.sum[l] = m.x[l] = m.y[l] = m.z[l] = Lane4::Zero();
   for (int i = 0; i < 3; ++i) {
-    Lane4 si[N], yi[N], zi[N];  // Σ over j and k at this i
-    for (int l = 0; l < N; ++l) si[l] = yi[l] = zi[l] = Lane4::Zero();
+    Lane4 si[N], yi[M + 1], zi[M + 1];  // Σ over j and k at this i
+    for (int l = 0; l < N; ++l) si[l] = Lane4::Zero();
+    for (int l = 0; l < M; ++l) yi[l] = zi[l] = Lane4::Zero();
     for (int j = 0; j < 3; ++j) {
       const Node* row = grid + st.row(i, j);
-      Lane4 sj[N], zj[N];  // Σ over k
-      for (int l = 0; l < N; ++l) sj[l] = zj[l] = Lane4::Zero();
+      Lane4 sj[N], zj[M + 1];  // Σ over k
+      for (int l = 0; l < N; ++l) sj[l] = Lane4::Zero();
+      for (int l = 0; l < M; ++l) zj[l] = Lane4::Zero();
 #pragma GCC unroll 3
-      for (int k = 0; k < 3; ++k)
-        for (int l = 0; l < N; ++l) {
+      for (int k = 0; k < 3; ++k) {
+        for (int l = 0; l < M; ++l) {
           const auto f = lanes(row[k], l);
           sj[l] += az.w[k] * f;
           zj[l] += wz_oz[k] * f;
         }
+        for (int l = M; l < N; ++l) sj[l] += az.w[k] * lanes(row[k], l);
+      }
       const Real wy = st.y.w[j], wy_oy = wy * (j - st.y.frac);
-      for (int l = 0; l < N; ++l) si[l] += wy * sj[l], yi[l] += wy_oy * sj[l], zi[l] += wy * zj[l];
+      for (int l = 0; l < M; ++l) yi[l] += wy_oy * sj[l], zi[l] += wy * zj[l];
+      for (int l = 0; l < N; ++l) si[l] += wy * sj[l];
     }
     const Real wx = st.x.w[i], wx_ox = wx * (i - st.x.frac);
-    for (int l = 0; l < N; ++l)
-      m.sum[l] += wx * si[l], m.x[l] += wx_ox * si[l], m.y[l] += wx * yi[l], m.z[l] += wx * zi[l];
+    for (int l = 0; l < M; ++l) m.x[l] += wx_ox * si[l], m.y[l] += wx * yi[l], m.z[l] += wx * zi[l];
+    for (int l = 0; l < N; ++l) m.sum[l] += wx * si[l];
   }
   return m;
 }

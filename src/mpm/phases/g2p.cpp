@@ -6,12 +6,18 @@
 #include <Eigen/LU>
 
 #include <algorithm>
+#include <cstddef>
 #include <limits>
 
 #include "core/parallel.hpp"
 #include "mpm/transfer.hpp"
 
 namespace bakesim::mpm {
+
+static_assert(offsetof(HeatState, theta) < 8 * sizeof(Real) && offsetof(HeatState, saturation) < 8 * sizeof(Real) &&
+                  offsetof(HeatState, vapour_density) < 8 * sizeof(Real) &&
+                  offsetof(HeatState, air_area) < 8 * sizeof(Real) && offsetof(HeatState, fill) < 8 * sizeof(Real),
+              "G2P takes the moments of HeatState's first two vectors only: the fields whose gradients it reads");
 
 // Spec 4.5: v_p = Σ w v_i, C_p = D⁻¹ Σ w v_i (x_i − x_p)ᵀ (D = Δx²/4 for
 // quadratic B-splines); C_p is also the MLS velocity gradient, so the trial
@@ -35,7 +41,7 @@ void MpmSolver::g2p(Real dt) {
         const Vec3 g = (x_[p] - origin) * inv_dx_;
         const Stencil st{axis_weights(g.x()), axis_weights(g.y()), axis_weights(g.z()), nz, syz};
         // GridNode lanes after the grid update: {m, v_x, v_y, v_z}; lane 0 unused.
-        const StencilMoments<1> mv = gather_moments(grid, st);
+        const StencilMoments<1> mv = gather_moments<1>(grid, st);
         const Vec3 vp(mv.sum[0][1], mv.sum[0][2], mv.sum[0][3]);
         Mat3 c;
         c.col(0) = d_inv * Vec3(mv.x[0][1], mv.x[0][2], mv.x[0][3]);
@@ -51,9 +57,11 @@ void MpmSolver::g2p(Real dt) {
         // (which a periodic domain always needs, to wrap points that left it).
         if (periodic || !domain.contains(x_[p])) push_inside_domain(p);
         if (!near_collider_.empty()) {
-          // The node nearest the particle's old position (it moves less than a cell).
+          // The node nearest the particle's old position (it moves less than a cell). Through
+          // int: a double's conversion to an unsigned 64-bit integer is a branch and two
+          // conversions on x86 without AVX-512.
           const std::size_t nearest =
-              std::size_t(g.x() + 0.5) * syz + std::size_t(g.y() + 0.5) * nz + std::size_t(g.z() + 0.5);
+              std::size_t(int(g.x() + 0.5)) * syz + std::size_t(int(g.y() + 0.5)) * nz + std::size_t(int(g.z() + 0.5));
           if (near_collider_[nearest]) push_out_of_colliders(p);
         }
         if constexpr (kThermal) {
@@ -61,7 +69,7 @@ void MpmSolver::g2p(Real dt) {
           // conductance and drive, r, r_v, the air-facing and exchanging areas and
           // the fill; Σ w o of θ, s, ρ_v (their gradients), of the air-facing area
           // (the centroid of the particle's face) and of the fill (its gradient).
-          const StencilMoments<3> hm = gather_moments(heat, st);
+          const StencilMoments<3> hm = gather_moments<2>(heat, st);  // the last vector: sums only
           const HeatState sum = as_record<HeatState>(hm.sum), mx = as_record<HeatState>(hm.x),
                           my = as_record<HeatState>(hm.y), mz = as_record<HeatState>(hm.z);
           const Real volume = j_[p] * volume0_[p];
