@@ -5,7 +5,6 @@
 #include <Eigen/LU>
 #include <Eigen/SVD>
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <experimental/simd>
 
@@ -168,58 +167,21 @@ void svd3x4(const Mat3 (&f)[4], Svd3 (&out)[4]) {
 
 Vec3 hencky_strain(const Vec3& sigma) { return sigma.cwiseAbs().array().max(1e-12).log().matrix(); }
 
-namespace {
-
-// ln x on four lanes for x in [1/√2, √2], where an elastic stretch nearly
-// always lies: ln x = 2 atanh s = 2 (s + s³/3 + s⁵/5 + …), s = (x − 1)/(x + 1),
-// |s| ≤ 0.172; the series to s²¹/21 leaves out under 1e-18 of ln x, and x − 1
-// is exact there, so the result is within round-off of std::log.
-Lanes log_near_one(const Lanes& x) {
-  const Lanes s = (x - 1) / (x + 1), z = s * s;
-  Lanes sum = Real(1) / 21;
-  for (int k = 9; k >= 0; --k) sum = sum * z + Real(1) / (2 * k + 1);
-  return 2 * s * sum;
-}
-
-// e^x on four lanes for |x| ≤ 1/2, where an elastic strain nearly always
-// lies: the Taylor series to x¹⁷/17! (Horner on 1/k!) leaves out under 1e-21
-// of e^x.
-Lanes exp_near_zero(const Lanes& x) {
-  constexpr auto inverse_factorials = [] {
-    std::array<Real, 18> c{};
-    c[0] = 1;
-    for (int k = 1; k < 18; ++k) c[k] = c[k - 1] / k;
-    return c;
-  }();
-  Lanes sum = inverse_factorials[17];
-  for (int k = 16; k >= 0; --k) sum = sum * x + inverse_factorials[k];
-  return sum;
-}
-
-}  // namespace
-
+// Eigen evaluates log and exp of a 4-lane array on SIMD vectors (its own
+// polynomial kernels, within an ulp or two of the C library's; std::log and
+// std::exp are one call per value).
 void hencky_stretch_x4(const Vec3 (&strain)[4], Vec3 (&sigma)[4]) {
   for (int i = 0; i < 3; ++i) {
-    const Lanes x([&](auto l) { return strain[l][i]; });
-    if (all_of(abs(x) <= Real(0.5))) {
-      const Lanes e = exp_near_zero(x);
-      for (int l = 0; l < 4; ++l) sigma[l][i] = e[l];
-    } else {  // a large strain in some lane: the library's exponential for this axis
-      for (int l = 0; l < 4; ++l) sigma[l][i] = std::exp(x[l]);
-    }
+    const Lane4 e = Lane4(strain[0][i], strain[1][i], strain[2][i], strain[3][i]).exp();
+    for (int l = 0; l < 4; ++l) sigma[l][i] = e[l];
   }
 }
 
 void hencky_strain_x4(const Svd3 (&svd)[4], Vec3 (&strain)[4]) {
-  constexpr Real kLow = 0.70710678118654752, kHigh = 1.4142135623730950;
   for (int i = 0; i < 3; ++i) {
-    const Lanes x([&](auto l) { return std::abs(svd[l].sigma[i]); });
-    if (all_of(x >= kLow && x <= kHigh)) {
-      const Lanes e = log_near_one(x);
-      for (int l = 0; l < 4; ++l) strain[l][i] = e[l];
-    } else {  // a large stretch in some lane: the library's logarithm for this axis
-      for (int l = 0; l < 4; ++l) strain[l][i] = std::log(std::max(x[l], Real(1e-12)));
-    }
+    const Lane4 x(svd[0].sigma[i], svd[1].sigma[i], svd[2].sigma[i], svd[3].sigma[i]);
+    const Lane4 e = x.abs().max(Real(1e-12)).log();
+    for (int l = 0; l < 4; ++l) strain[l][i] = e[l];
   }
 }
 

@@ -49,13 +49,10 @@ Mat3 kirchhoff_stress(const Hencky& law, const Mat3& f, const Svd3& svd);
 // stress from them and U: what the solver computes once per particle for the
 // plastic return and the stress (each took its own logarithms before).
 Vec3 hencky_strain(const Vec3& sigma);
-// The same for four SVDs at once (the constitutive phase's chunk): their
-// logarithms on 4-lane vectors where every stretch of an axis lies within
-// [1/√2, √2], within round-off of hencky_strain.
+// The same for four SVDs at once (the constitutive phase's chunk), and back
+// from strains to stretches, σ = e^ε: Eigen's logarithm and exponential on
+// 4-lane vectors, within round-off of hencky_strain and std::exp.
 void hencky_strain_x4(const Svd3 (&svd)[4], Vec3 (&strain)[4]);
-// Back from strains to stretches, σ = e^ε, four at once: a series on 4-lane
-// vectors where every strain of an axis lies within ±1/2, within round-off of
-// std::exp.
 void hencky_stretch_x4(const Vec3 (&strain)[4], Vec3 (&sigma)[4]);
 Mat3 hencky_stress(const Lame& lame, const Vec3& strain, const Mat3& u);
 Mat3 kirchhoff_stress(const FixedCorotated& law, const Mat3& f, const Svd3& svd);
