@@ -220,8 +220,8 @@ namespace {
 // Spec 3.2 steps 1–4 in principal Hencky strains for the ellipse
 // q² + A p² ≤ τ_y² (A = 0: von Mises). Minimising the energy distance
 // (p − p_tr)²/(2K) + (q − q_tr)²/(6μ) on f = 0 gives p = p_tr / (1 + 2KAΔγ),
-// q = q_tr / (1 + 6μΔγ); f(Δγ) is convex and decreasing, so Newton from
-// Δγ = 0 approaches its root monotonically from below.
+// q = q_tr / (1 + 6μΔγ); f(Δγ) is convex and decreasing, so Newton from any
+// Δγ below its root approaches it monotonically from below.
 bool ellipse_return(Real yield, Real viscosity, Real a, const Lame& lame, Real dt, Vec3& eps) {
   const Real bulk = lame.lambda + 2 * lame.mu / 3;
   const Real tr = eps.sum();
@@ -238,7 +238,14 @@ bool ellipse_return(Real yield, Real viscosity, Real a, const Lame& lame, Real d
     q = yield;
     p = p_tr;
   } else {
-    Real g = 0;
+    // Start from the larger of two roots that each leave out one term of f: at
+    // either f is still ≥ 0 (the other term's share), so both lie at or below
+    // the root and Newton keeps approaching it from below, in fewer steps.
+    const Real y = std::sqrt(y2);
+    const Real g_shear = q_tr > y ? (q_tr / y - 1) / (6 * lame.mu) : 0;
+    const Real p_abs = std::sqrt(a) * std::abs(p_tr);
+    const Real g_pressure = p_abs > y ? (p_abs / y - 1) / (2 * bulk * a) : 0;
+    Real g = std::max(g_shear, g_pressure);
     for (int it = 0; it < 100; ++it) {
       const Real sq = 1 / (1 + 6 * lame.mu * g), sp = 1 / (1 + 2 * bulk * a * g);
       const Real qq = q_tr * sq, pp = p_tr * sp;

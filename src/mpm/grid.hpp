@@ -2,7 +2,6 @@
 // The MPM background grid: quadratic B-spline weights (spec 4.1), the node
 // records the transfers fill, and the block order that lets P2G scatter in
 // parallel without atomics.
-#include <array>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -28,20 +27,6 @@ inline Axis axis_weights(Real xi) {
   a.w[0] = 0.5 * (1.5 - f) * (1.5 - f);
   a.w[1] = 0.75 - (f - 1.0) * (f - 1.0);
   a.w[2] = 0.5 * (f - 0.5) * (f - 0.5);
-  return a;
-}
-
-// The three axes of a point g (in cells) at once, the same numbers as
-// axis_weights of each: the floor and the weights on one 4-lane vector (every
-// transfer takes them per particle; one axis at a time was about 35
-// instructions an axis).
-inline std::array<Axis, 3> axis_weights(const Vec3& g) {
-  const Lane4 gl(g.x(), g.y(), g.z(), 0);
-  const Lane4 base = (gl - 0.5).floor();
-  const Lane4 f = gl - base;
-  const Lane4 w0 = 0.5 * (1.5 - f).square(), w1 = 0.75 - (f - 1.0).square(), w2 = 0.5 * (f - 0.5).square();
-  std::array<Axis, 3> a;
-  for (int d = 0; d < 3; ++d) a[d] = Axis{static_cast<int>(base[d]), f[d], {w0[d], w1[d], w2[d]}};
   return a;
 }
 
@@ -117,8 +102,8 @@ class BlockOrder {
             const std::uint32_t b = blocks[bi];
             for (std::uint32_t k = block_start_[b]; k < block_start_[b + 1]; ++k) {
               const std::uint32_t p = order_[k];
-              const std::array<Axis, 3> a = axis_weights(Vec3((x[p] - origin) * inv_dx));
-              fn(p, a[0], a[1], a[2]);
+              const Vec3 g = (x[p] - origin) * inv_dx;
+              fn(p, axis_weights(g.x()), axis_weights(g.y()), axis_weights(g.z()));
             }
           },
           1);

@@ -20,13 +20,20 @@ struct Leavening {
   // the oven would rise again). Infinite: the spec.
   Real amount = std::numeric_limits<Real>::infinity();
   bool active() const { return rate > 0; }
-  Real generation_rate(Real temperature, Real density) const {
-    const Real z = (temperature - peak_temperature) / width;
-    return rate * density * std::exp(-z * z);
-  }
   // n after dt of bake time, never beyond the leavener's amount.
   Real generated(Real moles, Real dt, Real temperature, Real density) const {
-    return std::min(moles + dt * generation_rate(temperature, density), std::max(moles, amount * density));
+    const Real z = (temperature - peak_temperature) / width;
+    return generated_at(moles, dt, std::exp(-z * z), density);
+  }
+  // The same with the temperature's factor exp(−z²) given, and that factor for
+  // four temperatures at once on a SIMD vector (Eigen's exp): the MPM
+  // constitutive phase takes four particles at a time.
+  Real generated_at(Real moles, Real dt, Real profile, Real density) const {
+    return std::min(moles + dt * (rate * density * profile), std::max(moles, amount * density));
+  }
+  Lane4 profile(const Lane4& temperature) const {
+    const Lane4 z = (temperature - peak_temperature) / width;
+    return (-z * z).exp();
   }
   // J·P (the Kirchhoff pressure) for n moles per initial volume; the porosity
   // is floored at `kMinPorosity` so a dough without pores cannot reach an

@@ -208,6 +208,14 @@ TEST(Leavening, GenerationStopsWhenTheLeavenerIsSpent) {
   EXPECT_DOUBLE_EQ(gas.generated(0.095, dt, 60, density), 0.1);
   EXPECT_DOUBLE_EQ(gas.generated(0.1, dt, 60, density), 0.1);    // spent: no more
   EXPECT_DOUBLE_EQ(gas.generated(0.12, dt, 60, density), 0.12);  // never taken back
+  // The temperature factor of four particles at once (MPM) is the scalar law's.
+  const Lane4 temperatures(20.0, 40.0, 61.3, 150.0);
+  const Lane4 four = gas.profile(temperatures);
+  for (int l = 0; l < 4; ++l) {
+    const Real z = (temperatures[l] - gas.peak_temperature) / gas.width;
+    EXPECT_NEAR(four[l], std::exp(-z * z), 4e-16 * std::exp(-z * z)) << temperatures[l];
+    EXPECT_NEAR(gas.generated_at(0.01, dt, four[l], density), gas.generated(0.01, dt, temperatures[l], density), 1e-15);
+  }
 }
 
 TEST(IrreversibleSetting, FollowsTheCurrentTemperatureUntilSetThenThePeak) {

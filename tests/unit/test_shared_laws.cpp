@@ -205,17 +205,6 @@ TEST(MpmGrid, QuadraticBSplineWeightsArePartitionOfUnityAndReproduceLinears) {
     for (int k = 0; k < 3; ++k) second += a.w[k] * (k - a.frac) * (k - a.frac);
     EXPECT_NEAR(second, 0.25, 1e-14);
   }
-  // The transfers take the three axes at once on a 4-lane vector: the same
-  // numbers to the bit as one axis at a time.
-  for (const Vec3& g : {Vec3(3.0, 3.25, 3.5), Vec3(3.77, 4.499, 2.5000001), Vec3(7.5, 0.5, 12.9999)}) {
-    const std::array<mpm::Axis, 3> three = mpm::axis_weights(g);
-    for (int d = 0; d < 3; ++d) {
-      const mpm::Axis one = mpm::axis_weights(g[d]);
-      EXPECT_EQ(three[d].base, one.base) << d;
-      EXPECT_EQ(three[d].frac, one.frac) << d;
-      for (int k = 0; k < 3; ++k) EXPECT_EQ(three[d].w[k], one.w[k]) << d << " node " << k;
-    }
-  }
 }
 
 TEST(MpmGrid, BlocksOfOneColourNeverShareANodeAndTheOrderIsAPermutation) {

@@ -52,6 +52,12 @@ void MpmSolver::phase_plasticity(Real dt) {
                       constexpr bool kHencky = std::is_same_v<std::decay_t<decltype(elastic)>, Hencky>;
                       Vec3 chunk_strain[4];
                       if constexpr (kHencky) hencky_strain_x4(chunk_svd, chunk_strain);
+                      // The leavener's temperature factor of the four at once (physics/leavening.hpp).
+                      Lane4 leavening = Lane4::Zero();
+                      if (gas)
+                        leavening = mat.gas.profile(Lane4::NullaryExpr([&](Eigen::Index l) {
+                          return std::size_t(l) < count ? temperature_[members[first + l]] : mat.gas.peak_temperature;
+                        }));
                       // The plastic return on each particle's strains (its Newton solve is
                       // scalar), then the new stretches e^ε of the four at once.
                       if constexpr (!std::is_same_v<P, NoPlasticity>) {
@@ -131,7 +137,7 @@ void MpmSolver::phase_plasticity(Real dt) {
                                 dt * expansion * (theta + kZeroCelsius) * div_v * volume / heat_capacity_[i];
                           }
                           if (gas) {
-                            co2_[i] = mat.gas.generated(co2_[i], dtb, theta, mat.density);
+                            co2_[i] = mat.gas.generated_at(co2_[i], dtb, leavening[l], mat.density);
                             const Real jp_gas = Leavening::kirchhoff_pressure(
                                 co2_[i], theta, gas_porosity(jp_[i], mat.initial_porosity));
                             gas_pressure_[i] = jp_gas / j;

@@ -39,8 +39,7 @@ void MpmSolver::g2p(Real dt) {
       x_.size(),
       [&](std::size_t p) {
         const Vec3 g = (x_[p] - origin) * inv_dx_;
-        const std::array<Axis, 3> axes = axis_weights(g);
-        const Stencil st{axes[0], axes[1], axes[2], nz, syz};
+        const Stencil st{axis_weights(g.x()), axis_weights(g.y()), axis_weights(g.z()), nz, syz};
         // GridNode lanes after the grid update: {m, v_x, v_y, v_z}; lane 0 unused.
         const StencilMoments<1> mv = gather_moments<1>(grid, st);
         const Vec3 vp(mv.sum[0][1], mv.sum[0][2], mv.sum[0][3]);

@@ -111,7 +111,10 @@ void MpmSolver::phase_grid(Real dt) {
           for_each_wall(walls, xi, on_face,
                         [&](const WallContact& w) { apply_contact(v, w.normal, setup_.domain_contact); });
           node.mv[0] = v.x(), node.mv[1] = v.y(), node.mv[2] = v.z();
-          if (!exchange) continue;  // the state stays as P2G cleared it: no exchange, θ = 0
+          if (!exchange) {  // no exchange, θ = 0 (a node without mass keeps its old state: below)
+            if (heat) heat_state_[k] = HeatState{};
+            continue;
+          }
           const HeatSums& f = *sums;
           const Real volume = f.volume;
           const Real air_area = area.norm();
