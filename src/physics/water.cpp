@@ -184,6 +184,20 @@ Real PoreWater::cell_conductivity(Real celsius, Real moisture_now, Real phi) con
          drho_sat;
 }
 
+PoreWater::PoreVapour PoreWater::pore_vapour(Real celsius, Real moisture_now, Real phi) const {
+  // Below the boiling point vapour_density's θ is the particle's own, the one
+  // cell_conductivity takes: there the two share p_sat and a_w.
+  const Real theta = std::min(celsius, boiling_point);
+  const Real activity = sorption.activity(moisture_now, theta), p = saturation_vapour_pressure(theta);
+  PoreVapour out{activity * p * kWaterMolarMass / (kGasConstant * (theta + kZeroCelsius)), 0};
+  if (!(cell_heat_pipe > 0) || !(moisture_now > 0) || !(celsius < boiling_point)) return out;
+  const Real tk = std::max(celsius, Real(-50)) + kZeroCelsius;
+  const Real dp = slope_of_saturation_pressure(p, celsius);
+  const Real drho_sat = kWaterMolarMass / (kGasConstant * tk) * (dp - p / tk);
+  out.cell_conductivity = cell_heat_pipe * phi * latent_heat * free_vapour_diffusivity(tk) * activity * drho_sat;
+  return out;
+}
+
 Real PoreWater::effective_diffusivity(Real celsius, Real moisture_now, Real heat_capacity_density,
                                       Real dry_density) const {
   // ∂ρ_v/∂θ and ∂ρ_v/∂X by differences: the law is smooth, the bound only needs its size.

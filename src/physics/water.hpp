@@ -129,6 +129,13 @@ struct PoreWater {
   // diffusivity (no tortuosity: the vapour crosses one cell). Added to the
   // conductivity of moist dough below the boiling point.
   Real cell_conductivity(Real celsius, Real moisture_now, Real phi) const;
+  // Both of one particle at once, vapour_density and cell_conductivity to the
+  // bit, from one saturation pressure and one activity (each evaluates both;
+  // the MPM constitutive phase takes the two for every moist point every step).
+  struct PoreVapour {
+    Real density, cell_conductivity;
+  };
+  PoreVapour pore_vapour(Real celsius, Real moisture_now, Real phi) const;
   // The conductivity change of dough that has dried from X₀ to X, W/(m K):
   // linear from the material's k (moist) to dry_conductivity (dry), so a crust
   // insulates the crumb (shared/spec: 0.2–0.4 crumb, 0.05–0.1 crust).

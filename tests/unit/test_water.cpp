@@ -255,6 +255,25 @@ TEST(Water, CellHeatPipeIsTheVapourConductivityAcrossACellAndStopsWhenDryOrBoili
   EXPECT_EQ(w.cell_conductivity(theta, 0.54, phi), 0.0);
 }
 
+// The MPM constitutive phase takes both from one call: the same numbers to the
+// bit as the two laws, below, at and above the boiling point, dry or not.
+TEST(Water, PoreVapourIsTheVapourDensityAndTheCellHeatPipeTogether) {
+  PoreWater w;
+  w.moisture = 0.54;
+  w.sorption.oswin_a_slope = -0.002;  // a temperature-dependent isotherm
+  w.sorption.oswin_a_offset = 3.0;
+  for (const double pipe : {1.0, 0.0}) {
+    w.cell_heat_pipe = pipe;
+    for (const double theta : {-10.0, 25.0, 90.0, 99.99, 100.0, 130.0})
+      for (const double x : {0.0, 0.05, 0.3, 0.54})
+        for (const double phi : {0.2, 0.6}) {
+          const PoreWater::PoreVapour both = w.pore_vapour(theta, x, phi);
+          EXPECT_EQ(both.density, w.vapour_density(theta, x)) << theta << " degC, X " << x;
+          EXPECT_EQ(both.cell_conductivity, w.cell_conductivity(theta, x, phi)) << theta << " degC, X " << x;
+        }
+  }
+}
+
 TEST(Water, DriedDoughConductsLikeTheCrustAndGasGrowsWithExpansion) {
   PoreWater w;
   w.moisture = 0.8;

@@ -157,13 +157,13 @@ void MpmSolver::phase_plasticity(Real dt) {
                               // its flux through the pores and what leaves through the surface.
                               const PoreWater& pw = mat.moisture;
                               const Real x = pw.moisture_of(water_[i], m_[i]);
-                              const Real rho_v = pw.vapour_density(theta, x);
-                              moisture_[i] = x;
-                              vapour_density_[i] = rho_v;
-                              vapour_src_[i] = -mass_transfer * (rho_v - air_vapour) * air_area_[i];
                               const Real phi = pw.expanded_gas_fraction(j);  // risen dough holds more gas
-                              cell_k_[i] = pw.cell_conductivity(theta, x, phi) +
-                                           pw.drying_conductivity_change(mat.conductivity, x);
+                              const PoreWater::PoreVapour vapour = pw.pore_vapour(theta, x, phi);
+                              moisture_[i] = x;
+                              vapour_density_[i] = vapour.density;
+                              vapour_src_[i] = -mass_transfer * (vapour.density - air_vapour) * air_area_[i];
+                              cell_k_[i] =
+                                  vapour.cell_conductivity + pw.drying_conductivity_change(mat.conductivity, x);
                               vapour_vec_[i] =
                                   -(volume * pw.vapour_conductance(theta, phi) * flux_scale) * grad_vapour_[i];
                             }
