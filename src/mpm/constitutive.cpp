@@ -165,11 +165,25 @@ void svd3x4(const Mat3 (&f)[4], Svd3 (&out)[4]) {
   }
 }
 
-Vec3 hencky_strain(const Vec3& sigma) { return sigma.cwiseAbs().array().max(1e-12).log().matrix(); }
+// ε = ln max(|σ|, 1e-12) and σ = e^ε lane by lane: Eigen evaluates log and exp
+// of a 4-lane array on SIMD vectors (its own polynomial kernels, within an ulp
+// or two of the C library's; std::log and std::exp are one call per value).
+// One particle's three values take three lanes of the same kernels, so the
+// chunk and the single-particle paths give the same numbers.
+namespace {
+Lane4 strain_of(const Lane4& sigma) { return sigma.abs().max(Real(1e-12)).log(); }
+}  // namespace
 
-// Eigen evaluates log and exp of a 4-lane array on SIMD vectors (its own
-// polynomial kernels, within an ulp or two of the C library's; std::log and
-// std::exp are one call per value).
+Vec3 hencky_strain(const Vec3& sigma) {
+  const Lane4 e = strain_of(Lane4(sigma[0], sigma[1], sigma[2], 1));
+  return Vec3(e[0], e[1], e[2]);
+}
+
+Vec3 hencky_stretch(const Vec3& strain) {
+  const Lane4 e = Lane4(strain[0], strain[1], strain[2], 0).exp();
+  return Vec3(e[0], e[1], e[2]);
+}
+
 void hencky_stretch_x4(const Vec3 (&strain)[4], Vec3 (&sigma)[4]) {
   for (int i = 0; i < 3; ++i) {
     const Lane4 e = Lane4(strain[0][i], strain[1][i], strain[2][i], strain[3][i]).exp();
@@ -179,8 +193,7 @@ void hencky_stretch_x4(const Vec3 (&strain)[4], Vec3 (&sigma)[4]) {
 
 void hencky_strain_x4(const Svd3 (&svd)[4], Vec3 (&strain)[4]) {
   for (int i = 0; i < 3; ++i) {
-    const Lane4 x(svd[0].sigma[i], svd[1].sigma[i], svd[2].sigma[i], svd[3].sigma[i]);
-    const Lane4 e = x.abs().max(Real(1e-12)).log();
+    const Lane4 e = strain_of(Lane4(svd[0].sigma[i], svd[1].sigma[i], svd[2].sigma[i], svd[3].sigma[i]));
     for (int l = 0; l < 4; ++l) strain[l][i] = e[l];
   }
 }
@@ -207,7 +220,7 @@ Mat3 kirchhoff_stress(const ElasticLaw& law, const Mat3& f, const Svd3& svd) {
 Real energy_density(const ElasticLaw& law, const Mat3& f) {
   const Svd3 s = svd3(f);
   if (const auto* h = std::get_if<Hencky>(&law)) {
-    const Vec3 eps = s.sigma.cwiseAbs().array().log().matrix();
+    const Vec3 eps = hencky_strain(s.sigma);
     return h->lame.mu * eps.squaredNorm() + 0.5 * h->lame.lambda * eps.sum() * eps.sum();
   }
   const auto& c = std::get<FixedCorotated>(law);
@@ -240,7 +253,7 @@ bool ellipse_return(Real yield, Real viscosity, Real a, const Lame& lame, Real d
   } else {
     // Start from the larger of two roots that each leave out one term of f: at
     // either f is still ≥ 0 (the other term's share), so both lie at or below
-    // the root and Newton keeps approaching it from below, in fewer steps.
+    // the root and Newton still approaches it from below, from closer than 0.
     const Real y = std::sqrt(y2);
     const Real g_shear = q_tr > y ? (q_tr / y - 1) / (6 * lame.mu) : 0;
     const Real p_abs = std::sqrt(a) * std::abs(p_tr);
@@ -302,7 +315,7 @@ template <class Law>
 Svd3 return_on_svd(const Law& law, const Lame& lame, Real dt, Real plastic_j, const Svd3& svd) {
   Vec3 strain = hencky_strain(svd.sigma);
   if (!return_strain(law, lame, dt, plastic_j, strain)) return svd;
-  return Svd3{svd.u, svd.v, strain.array().exp().matrix()};
+  return Svd3{svd.u, svd.v, hencky_stretch(strain)};
 }
 }  // namespace
 

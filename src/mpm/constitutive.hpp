@@ -49,9 +49,10 @@ Mat3 kirchhoff_stress(const Hencky& law, const Mat3& f, const Svd3& svd);
 // stress from them and U: what the solver computes once per particle for the
 // plastic return and the stress (each took its own logarithms before).
 Vec3 hencky_strain(const Vec3& sigma);
-// The same for four SVDs at once (the constitutive phase's chunk), and back
-// from strains to stretches, σ = e^ε: Eigen's logarithm and exponential on
-// 4-lane vectors, within round-off of hencky_strain and std::exp.
+// Back from strains to stretches, σ = e^ε; and both for four particles at
+// once (the constitutive phase's chunk). Eigen's logarithm and exponential on
+// 4-lane vectors, within round-off of std::log and std::exp.
+Vec3 hencky_stretch(const Vec3& strain);
 void hencky_strain_x4(const Svd3 (&svd)[4], Vec3 (&strain)[4]);
 void hencky_stretch_x4(const Vec3 (&strain)[4], Vec3 (&sigma)[4]);
 Mat3 hencky_stress(const Lame& lame, const Vec3& strain, const Mat3& u);

@@ -1,7 +1,6 @@
 #pragma once
 // CO2 from a chemical leavener and its pressure in the pores (spec mpm-baking.md 3.3).
 #include <algorithm>
-#include <cmath>
 #include <limits>
 
 #include "core/types.hpp"
@@ -22,12 +21,11 @@ struct Leavening {
   bool active() const { return rate > 0; }
   // n after dt of bake time, never beyond the leavener's amount.
   Real generated(Real moles, Real dt, Real temperature, Real density) const {
-    const Real z = (temperature - peak_temperature) / width;
-    return generated_at(moles, dt, std::exp(-z * z), density);
+    return generated_at(moles, dt, profile(Lane4::Constant(temperature))[0], density);
   }
   // The same with the temperature's factor exp(−z²) given, and that factor for
-  // four temperatures at once on a SIMD vector (Eigen's exp): the MPM
-  // constitutive phase takes four particles at a time.
+  // four temperatures at once on a SIMD vector (Eigen's exp; the MPM
+  // constitutive phase takes four particles at a time, generated one lane).
   Real generated_at(Real moles, Real dt, Real profile, Real density) const {
     return std::min(moles + dt * (rate * density * profile), std::max(moles, amount * density));
   }

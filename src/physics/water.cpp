@@ -155,10 +155,27 @@ Boiling boil_bound(const PoreWater& pw, Real heat_capacity, Real temperature, Re
   return {temperature - latent * boiled / heat_capacity, water - boiled, boiled};
 }
 
+namespace {
+// Vapour of partial pressure p at θ as an ideal gas, kg/m³.
+Real ideal_vapour_density(Real pressure, Real celsius) {
+  return pressure * kWaterMolarMass / (kGasConstant * (celsius + kZeroCelsius));
+}
+// The closed-cell heat pipe (PoreWater::cell_conductivity) works in moist
+// dough below its boiling point, and then takes the activity and p = p_sat(θ).
+bool heat_pipe_works(const PoreWater& w, Real celsius, Real moisture_now) {
+  return w.cell_heat_pipe > 0 && moisture_now > 0 && celsius < w.boiling_point;
+}
+Real heat_pipe(const PoreWater& w, Real celsius, Real activity, Real p, Real phi) {
+  const Real tk = std::max(celsius, Real(-50)) + kZeroCelsius;
+  const Real dp = slope_of_saturation_pressure(p, celsius);
+  const Real drho_sat = kWaterMolarMass / (kGasConstant * tk) * (dp - p / tk);  // d(p M / R T)/dθ
+  return w.cell_heat_pipe * phi * w.latent_heat * w.free_vapour_diffusivity(tk) * activity * drho_sat;
+}
+}  // namespace
+
 Real PoreWater::vapour_density(Real celsius, Real moisture_now) const {
   const Real theta = std::min(celsius, boiling_point);
-  const Real p = sorption.activity(moisture_now, theta) * saturation_vapour_pressure(theta);
-  return p * kWaterMolarMass / (kGasConstant * (theta + kZeroCelsius));
+  return ideal_vapour_density(sorption.activity(moisture_now, theta) * saturation_vapour_pressure(theta), theta);
 }
 
 Real PoreWater::step_diffusivity(Real hottest, Real density, Real specific_heat, Real volume_ratio) const {
@@ -176,12 +193,8 @@ Real PoreWater::step_diffusivity(Real hottest, Real density, Real specific_heat,
 }
 
 Real PoreWater::cell_conductivity(Real celsius, Real moisture_now, Real phi) const {
-  if (!(cell_heat_pipe > 0) || !(moisture_now > 0) || !(celsius < boiling_point)) return 0;
-  const Real tk = std::max(celsius, Real(-50)) + kZeroCelsius;
-  const Real p = saturation_vapour_pressure(celsius), dp = slope_of_saturation_pressure(p, celsius);
-  const Real drho_sat = kWaterMolarMass / (kGasConstant * tk) * (dp - p / tk);  // d(p M / R T)/dθ
-  return cell_heat_pipe * phi * latent_heat * free_vapour_diffusivity(tk) * sorption.activity(moisture_now, celsius) *
-         drho_sat;
+  if (!heat_pipe_works(*this, celsius, moisture_now)) return 0;
+  return heat_pipe(*this, celsius, sorption.activity(moisture_now, celsius), saturation_vapour_pressure(celsius), phi);
 }
 
 PoreWater::PoreVapour PoreWater::pore_vapour(Real celsius, Real moisture_now, Real phi) const {
@@ -189,13 +202,8 @@ PoreWater::PoreVapour PoreWater::pore_vapour(Real celsius, Real moisture_now, Re
   // cell_conductivity takes: there the two share p_sat and a_w.
   const Real theta = std::min(celsius, boiling_point);
   const Real activity = sorption.activity(moisture_now, theta), p = saturation_vapour_pressure(theta);
-  PoreVapour out{activity * p * kWaterMolarMass / (kGasConstant * (theta + kZeroCelsius)), 0};
-  if (!(cell_heat_pipe > 0) || !(moisture_now > 0) || !(celsius < boiling_point)) return out;
-  const Real tk = std::max(celsius, Real(-50)) + kZeroCelsius;
-  const Real dp = slope_of_saturation_pressure(p, celsius);
-  const Real drho_sat = kWaterMolarMass / (kGasConstant * tk) * (dp - p / tk);
-  out.cell_conductivity = cell_heat_pipe * phi * latent_heat * free_vapour_diffusivity(tk) * activity * drho_sat;
-  return out;
+  return {ideal_vapour_density(activity * p, theta),
+          heat_pipe_works(*this, celsius, moisture_now) ? heat_pipe(*this, celsius, activity, p, phi) : 0};
 }
 
 Real PoreWater::effective_diffusivity(Real celsius, Real moisture_now, Real heat_capacity_density,

@@ -3,7 +3,6 @@
 // scan; the SPH pair terms; the MPM grid (B-spline weights, block colouring).
 #include <gtest/gtest.h>
 
-#include <array>
 #include <cmath>
 #include <numeric>
 #include <map>

@@ -57,18 +57,13 @@ void MpmSolver::check_state() {
   const std::size_t n = x_.size();
   // G2P keeps points inside the domain; a cell beyond it the stencil still fits the grid.
   const Aabb reach{setup_.domain.min - Vec3::Constant(dx_), setup_.domain.max + Vec3::Constant(dx_)};
-  // Every point every step, and a bad one is rare: one pass of comparisons joined
-  // by & rather than && (no branch each), with the position's finiteness in
-  // the reach test (NaN and infinity fail it). The message below sorts out
-  // which quantity failed.
+  // Every point every step, and a bad one is rare: the tests joined by &
+  // rather than && (no branch each), the position's finiteness in the reach
+  // test (NaN and infinity fail it). The message below sorts out which failed.
   const std::size_t bad = first_invalid(n, [&](std::size_t i) {
-    const Vec3& x = x_[i];
     const Vec3& v = v_[i];
-    const Vec3& lo = reach.min;
-    const Vec3& hi = reach.max;
-    return bool((x.x() >= lo.x()) & (x.y() >= lo.y()) & (x.z() >= lo.z()) & (x.x() <= hi.x()) & (x.y() <= hi.y()) &
-                (x.z() <= hi.z()) & std::isfinite(v.x()) & std::isfinite(v.y()) & std::isfinite(v.z()) & (j_[i] > 0) &
-                std::isfinite(temperature_[i]) & (water_[i] >= 0));
+    return bool(reach.contains(x_[i]) & std::isfinite(v.x()) & std::isfinite(v.y()) & std::isfinite(v.z()) &
+                (j_[i] > 0) & std::isfinite(temperature_[i]) & (water_[i] >= 0));
   });
   if (bad == n) return;
   const char* what = !x_[bad].allFinite()                ? "position"
