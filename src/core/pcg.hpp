@@ -80,13 +80,25 @@ PcgResult<Value> solve_pcg(std::size_t n, Apply&& apply, Active&& active, const 
   using namespace pcg_detail;
   for (std::vector<Value>* v : {&w.r, &w.z, &w.p, &w.ap}) v->resize(n);
   std::vector<Value>&r = w.r, &z = w.z, &p = w.p, &ap = w.ap;
+  // The vector loops below go through raw pointers: through the vectors'
+  // references the compiler reloaded every data pointer after each store
+  // (a store might have changed a vector's own pointer), which made the
+  // fused update cost a quarter of a matrix product (perf on the bread roll:
+  // 4.3% of a run, now 2.8%; the same arithmetic, the same iterates).
+  Value* const rp = r.data();
+  Value* const zp = z.data();
+  Value* const pp = p.data();
+  Value* const xp = x.data();
+  const Value* const app = ap.data();
+  const Value* const bp = b.data();
+  const Real* const dp = diag.data();
   apply(x, ap);
   parallel_for(
       n,
       [&](std::size_t i) {
-        r[i] = active(i) ? Value(b[i] - ap[i]) : zero(b[i]);
-        z[i] = r[i] / diag[i];
-        p[i] = z[i];
+        rp[i] = active(i) ? Value(bp[i] - app[i]) : zero(bp[i]);
+        zp[i] = rp[i] / dp[i];
+        pp[i] = zp[i];
       },
       4096);
   auto dot = [&](const std::vector<Value>& a, const std::vector<Value>& b) {
@@ -114,11 +126,13 @@ PcgResult<Value> solve_pcg(std::size_t n, Apply&& apply, Active&& active, const 
         [&](std::size_t begin, std::size_t end) {
           Sums s{zero(rz), zero(rz)};
           for (std::size_t i = begin; i < end; ++i) {
-            x[i] += times(alpha, p[i]);
-            r[i] -= times(alpha, ap[i]);
-            z[i] = r[i] / diag[i];
-            s.first += times(r[i], z[i]);
-            s.second += times(r[i], r[i]);
+            xp[i] += times(alpha, pp[i]);
+            const Value ri = rp[i] - times(alpha, app[i]);
+            const Value zi = ri / dp[i];
+            rp[i] = ri;
+            zp[i] = zi;
+            s.first += times(ri, zi);
+            s.second += times(ri, ri);
           }
           return s;
         },
@@ -135,7 +149,7 @@ PcgResult<Value> solve_pcg(std::size_t n, Apply&& apply, Active&& active, const 
     for (int c = 0; c < size(rz); ++c) at(beta, c) = at(rz, c) > 0 ? at(rz_new, c) / at(rz, c) : 0.0;
     rz = rz_new;
     parallel_for(
-        n, [&](std::size_t i) { p[i] = z[i] + times(beta, p[i]); }, 4096);
+        n, [&](std::size_t i) { pp[i] = zp[i] + times(beta, pp[i]); }, 4096);
     ++result.iterations;
   }
   return result;
