@@ -120,6 +120,11 @@ sph::Settings build_settings(const Ctx& c, const json& doc) {
   st.implicit_max_iterations = sj["implicit_viscosity"]["max_iterations"].get<int>();
   st.cfl = doc["solver"]["cfl"].get<double>();
   st.max_dt = doc["solver"]["max_dt"].get<double>();
+  st.mass_scaling = doc["solver"]["mass_scaling"].get<double>();
+  if (st.mass_scaling != 1 && st.pressure_solver == sph::PressureSolver::divergence_free)
+    c.fail("solver.mass_scaling",
+           "mass scaling works with the weakly compressible pressure only (the divergence-free solve holds the "
+           "density by the true inertia): leave it at 1 or use solver.sph.pressure_solver \"weakly_compressible\"");
   return st;
 }
 

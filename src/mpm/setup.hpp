@@ -29,8 +29,8 @@ struct Material {
   Real conductivity = 0.4;     // κ, W/(m K)
   Real thermal_expansion = 0;  // c of σ_s = τ/J − c λ (θ − θ_ref) I, 1/K
   Real initial_porosity = 0;   // n₀ of the gas porosity
-  Moisture water;      // the paper's water (saturation, Fick diffusion, water pressure)
-  PoreWater moisture;  // water, vapour and latent heat (physics/water.hpp); its liquid is `water`'s
+  Moisture water;              // the paper's water (saturation, Fick diffusion, water pressure)
+  PoreWater moisture;          // water, vapour and latent heat (physics/water.hpp); its liquid is `water`'s
   Leavening gas;
   std::optional<SettingCurves> setting;  // temperature-dependent τ_y, η (Hencky + plasticity only)
   IrreversibleSetting set;               // when τ_y, η start to follow the peak temperature (gelatinization)
@@ -54,6 +54,9 @@ struct Settings {
   Real cfl = 0.4;
   Real max_dt = 1e-3;
   int reorder_every = 16;  // steps between reordering particle memory by grid block
+  // Quasi-static mass scaling: the inertia is mass_scaling times the mass
+  // (gravity and the stress force accelerate it that much less).
+  Real mass_scaling = 1;
 };
 
 struct Setup : World {

@@ -216,7 +216,7 @@ Real MpmSolver::grid_mass() const {
   return deterministic_sum(grid_.size(), [&](std::size_t k) { return is_image_node(k) ? 0.0 : grid_[k].mass; });
 }
 
-// Spec 4.7: Δt ≤ CFL Δx / max|v|, Δt ≤ CFL Δx / c with c = sqrt((λ+2μ+ξ s₀)/ρ);
+// Spec 4.7: Δt ≤ CFL Δx / max|v|, Δt ≤ CFL Δx / c with c = sqrt((λ+2μ+ξ s₀)/(s ρ)) (s the mass scaling);
 // with heat, the explicit conduction bound Δt_bake ≤ ρ c Δx² / (6 κ J), the
 // boundary exchange Δt_bake ≤ m c / (2 S β), and water diffusion
 // Δt_bake ≤ Δx² / (6 D(θ_max)) (bake time Δt_bake = Δt · bake_time_scale).
@@ -253,7 +253,8 @@ Real MpmSolver::max_stable_dt() {
     if (bound < dt) dt = bound, dt_bound_ = name;
   };
   if (acc.vmax2 > 0) limit(s.cfl * dx_ / std::sqrt(acc.vmax2), "cfl");
-  if (max_wave_speed_ > 0) limit(s.cfl * dx_ / max_wave_speed_, "elastic_wave");
+  // Mass scaling slows the waves by sqrt(s) (the inertia s ρ).
+  if (max_wave_speed_ > 0) limit(s.cfl * dx_ * std::sqrt(s.mass_scaling) / max_wave_speed_, "elastic_wave");
   if (heat) {
     const Real scale = setup_.oven.bake_time_scale;
     for (const Material& mat : setup_.materials) {

@@ -247,6 +247,45 @@ TEST(ShearWave, DecaysAtTheViscousRateInAFullyPeriodicBox) {
   }
 }
 
+// Quasi-static mass scaling in SPH (solver.mass_scaling s): every force and
+// the weight accelerate the inertia s m. In the fully periodic box a shear
+// wave decays at ν k²/s, with the explicit viscosity (through the kick) and
+// with the implicit one (the solve's (M + (Δt/s) K) v = M v*), and the whole
+// fluid falls at g/s. Measured (max_dt 5e-5 s): the decay rate at s = 4
+// times 4 is 0.9993 (explicit) and 1.0013 (implicit) of the rate at s = 1,
+// which are −0.72% and −0.66% from ν k²; the fall is g/s to 1e-14.
+TEST(ShearWave, MassScalingDividesTheViscousDecayAndTheFallByTheScale) {
+  const double nu = 1e-6, rho = 1000, s = 5e-5, lambda = 20 * s, w = 6 * s, scale = 4, g = 9.81;
+  const double amplitude = 1e-5, k = 2 * kPi / lambda;
+  for (const std::string solver : {"explicit", "implicit"}) {
+    json scene = test_support::periodic_box_scene(
+        w, lambda, {{"spacing", s}, {"speed_of_sound", 0.01}, {"viscosity_solver", solver}},
+        {{"density", rho}, {"viscosity", nu * rho}}, 5e-5);
+    auto decay_rate = [&](double mass_scaling) {
+      scene["solver"]["mass_scaling"] = mass_scaling;
+      auto sph = test_support::make_sph(scene);
+      test_support::start_shear_wave(*sph, k, amplitude);
+      const double t_end = mass_scaling / (nu * k * k);  // one e-folding of the scaled decay
+      test_support::advance_to(*sph, t_end);
+      return -std::log(test_support::shear_wave_amplitude(*sph, k) / amplitude) / t_end;
+    };
+    const double unscaled = decay_rate(1), scaled = decay_rate(scale);
+    std::printf("%s viscosity: decay rate %.4f 1/s, with mass scaling %g %.4f (x%g: %.5f of it); nu k^2 %.4f\n",
+                solver.c_str(), unscaled, scale, scaled, scale, scale * scaled / unscaled, nu * k * k);
+    EXPECT_NEAR(scale * scaled / unscaled, 1.0, 0.003) << solver;
+    EXPECT_NEAR(scale * scaled / (nu * k * k), 1.0, 0.01) << solver;
+    // The same box under gravity, at rest: it falls as one body.
+    scene["solver"]["mass_scaling"] = scale;
+    scene["gravity"] = {0, -g, 0};
+    auto falling = test_support::make_sph(scene);
+    test_support::advance_to(*falling, 0.002);
+    double fall = 0;
+    for (const Vec3& v : falling->particles().vector("velocity")) fall += v.y();
+    fall /= double(falling->particles().size());
+    EXPECT_NEAR(-fall / (g * falling->time() / scale), 1.0, 1e-9) << solver;
+  }
+}
+
 namespace {
 
 // The same Bingham channel in MPM, at a scale where its elastic wave allows

@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <memory>
 
 #include <cmath>
 
@@ -45,34 +46,61 @@ Vec3 mean_velocity(const mpm::MpmSolver& s, const std::function<bool(const Vec3&
   return sum / std::max(n, 1);
 }
 
+// A free–free bar (ν = 0, so the 1D speed is exact), L = 1 m, E = 1e4 Pa,
+// ρ = 1, 2 cm cells.
+constexpr double kBarLength = 1.0, kBarModulus = 1e4, kBarDensity = 1.0;
+
+std::unique_ptr<mpm::MpmSolver> free_bar(double mass_scaling) {
+  json doc =
+      base_scene(0.02, {{"bar", {{"density", kBarDensity}, {"youngs_modulus", kBarModulus}, {"poisson_ratio", 0.0}}}},
+                 json::array({{{"name", "bar"},
+                               {"material", "bar"},
+                               {"shape", {{"type", "box"}, {"min", {0, 0, 0}}, {"max", {kBarLength, 0.04, 0.04}}}}}}),
+                 {-0.1, -0.1, -0.1}, {1.1, 0.14, 0.14}, {0, 0, 0});
+  doc["solver"]["mass_scaling"] = mass_scaling;
+  return make_mpm(doc);
+}
+
+// The bar started in its first mode v = v0 cos(π x / L): the end velocity
+// goes v0 → −v0 and crosses zero at T/4 = L / (2c). Returns the measured c
+// (the end region averages 5% of the bar; its mean follows the same cosine in
+// time), or −1 without a crossing by 0.6 L / expected_c.
+double bar_wave_speed(mpm::MpmSolver& s, double expected_c) {
+  const double L = kBarLength;
+  auto& x = s.mutable_particles().vector("position");
+  auto& v = s.mutable_particles().vector("velocity");
+  for (std::size_t i = 0; i < x.size(); ++i) v[i] = Vec3(0.01 * std::cos(kPi * x[i].x() / L), 0, 0);
+  auto end_speed = [&] { return mean_velocity(s, [&](const Vec3& p) { return p.x() < 0.05 * L; }).x(); };
+  double prev_t = 0, prev_v = end_speed();
+  while (s.time() < 0.6 * L / expected_c) {
+    s.step(std::min(s.max_stable_dt(), 2e-4));
+    const double vnow = end_speed();
+    if (prev_v > 0 && vnow <= 0) return L / (2 * (prev_t + (s.time() - prev_t) * prev_v / (prev_v - vnow)));
+    prev_t = s.time();
+    prev_v = vnow;
+  }
+  return -1;
+}
+
 }  // namespace
 
 TEST(Mpm, ElasticBarCarriesLongitudinalWavesAtSqrtEOverRho) {
-  // Free–free bar (ν = 0, so the 1D speed is exact) started in its first
-  // mode v = v0 cos(π x / L): the end velocity reverses at T/2 = L / c.
-  const double L = 1.0, E = 1e4, rho = 1.0, c = std::sqrt(E / rho);
-  json doc = base_scene(0.02, {{"bar", {{"density", rho}, {"youngs_modulus", E}, {"poisson_ratio", 0.0}}}},
-                        json::array({{{"name", "bar"},
-                                      {"material", "bar"},
-                                      {"shape", {{"type", "box"}, {"min", {0, 0, 0}}, {"max", {L, 0.04, 0.04}}}}}}),
-                        {-0.1, -0.1, -0.1}, {1.1, 0.14, 0.14}, {0, 0, 0});
-  auto s = make_mpm(doc);
-  auto& x = s->mutable_particles().vector("position");
-  auto& v = s->mutable_particles().vector("velocity");
-  for (std::size_t i = 0; i < x.size(); ++i) v[i] = Vec3(0.01 * std::cos(kPi * x[i].x() / L), 0, 0);
-  auto end_speed = [&] { return mean_velocity(*s, [&](const Vec3& p) { return p.x() < 0.05 * L; }).x(); };
-  // The end velocity goes v0 → −v0; its zero crossing is at T/4 = L / (2c).
-  double prev_t = 0, prev_v = end_speed(), crossing = -1;
-  while (s->time() < 0.6 * L / c && crossing < 0) {
-    s->step(std::min(s->max_stable_dt(), 2e-4));
-    const double vnow = end_speed();
-    if (prev_v > 0 && vnow <= 0) crossing = prev_t + (s->time() - prev_t) * prev_v / (prev_v - vnow);
-    prev_t = s->time();
-    prev_v = vnow;
-  }
-  ASSERT_GT(crossing, 0);
-  // The end region averages 5% of the bar; its mean follows the same cosine in time.
-  const double measured_c = L / (2 * crossing);
+  const double c = std::sqrt(kBarModulus / kBarDensity);
+  auto s = free_bar(1.0);
+  const double measured_c = bar_wave_speed(*s, c);
+  ASSERT_GT(measured_c, 0);
+  RecordProperty("wave_speed_ratio", std::to_string(measured_c / c));
+  EXPECT_NEAR(measured_c / c, 1.0, 0.05);
+}
+
+// Quasi-static mass scaling: with the inertia s times the mass the bar's
+// waves travel at sqrt(E / (s ρ)), and the elastic step bound grows by sqrt(s).
+TEST(Mpm, MassScalingSlowsTheBarsWavesBySqrtOfTheScale) {
+  const double scale = 4.0, c = std::sqrt(kBarModulus / (scale * kBarDensity));
+  auto s = free_bar(scale);
+  EXPECT_NEAR(s->max_stable_dt() / free_bar(1.0)->max_stable_dt(), std::sqrt(scale), 1e-12);
+  const double measured_c = bar_wave_speed(*s, c);
+  ASSERT_GT(measured_c, 0);
   RecordProperty("wave_speed_ratio", std::to_string(measured_c / c));
   EXPECT_NEAR(measured_c / c, 1.0, 0.05);
 }
@@ -127,6 +155,32 @@ TEST(Mpm, BlockSlidesDownAnInclineAtGTimesSinMinusMuCos) {
   test_support::advance_to(*s, 0.2);
   const double a = (mean_velocity(*s, all).x() - v0) / (s->time() - t0);
   const double expected = g * (std::sin(alpha) - mu * std::cos(alpha));
+  RecordProperty("acceleration_ratio", std::to_string(a / expected));
+  EXPECT_NEAR(a / expected, 1.0, 0.05);
+}
+
+// The weight m g accelerates the inertia s m, and so does the friction the
+// weight presses on the incline: both shares of the acceleration fall by s.
+TEST(Mpm, MassScalingDividesTheSlidingBlocksAccelerationByTheScale) {
+  const double alpha = 30.0 * kPi / 180, mu = 0.2, g = 9.81, scale = 4.0;
+  json doc = base_scene(
+      0.01, {{"block", {{"density", 1000.0}, {"youngs_modulus", 1e6}, {"poisson_ratio", 0.3}}}},
+      json::array({{{"name", "block"},
+                    {"material", "block"},
+                    {"shape", {{"type", "box"}, {"min", {-0.3, 0.05, -0.04}}, {"max", {-0.22, 0.09, 0.04}}}}}}),
+      {-0.4, 0.0, -0.1}, {0.4, 0.2, 0.1}, {g * std::sin(alpha), -g * std::cos(alpha), 0});
+  doc["solver"]["mass_scaling"] = scale;
+  doc["colliders"] = json::array({{{"name", "incline"},
+                                   {"shape", {{"type", "plane"}, {"point", {0, 0.05, 0}}, {"normal", {0, 1, 0}}}},
+                                   {"contact", "separate"},
+                                   {"friction", mu}}});
+  auto s = make_mpm(doc);
+  auto all = [](const Vec3&) { return true; };
+  test_support::advance_to(*s, 0.1);  // the contact settles twice as slowly
+  const double t0 = s->time(), v0 = mean_velocity(*s, all).x();
+  test_support::advance_to(*s, 0.4);
+  const double a = (mean_velocity(*s, all).x() - v0) / (s->time() - t0);
+  const double expected = g * (std::sin(alpha) - mu * std::cos(alpha)) / scale;
   RecordProperty("acceleration_ratio", std::to_string(a / expected));
   EXPECT_NEAR(a / expected, 1.0, 0.05);
 }
@@ -369,10 +423,9 @@ TEST(Mpm, EveryPointOfABodyThatFillsTheDomainIsKept) {
   // (the solver used to drop those within two cells of a face).
   const Real dx = 0.02;
   const json box = {{"type", "box"}, {"min", {0, 0, 0}}, {"max", {0.2, 0.1, 0.1}}};
-  json doc =
-      base_scene(dx, {{"jelly", {{"density", 1000.0}, {"youngs_modulus", 1e4}, {"poisson_ratio", 0.3}}}},
-                 json::array({{{"name", "filler"}, {"material", "jelly"}, {"shape", box}}}), {0, 0, 0}, {0.2, 0.1, 0.1},
-                 {0, -9.81, 0});
+  json doc = base_scene(dx, {{"jelly", {{"density", 1000.0}, {"youngs_modulus", 1e4}, {"poisson_ratio", 0.3}}}},
+                        json::array({{{"name", "filler"}, {"material", "jelly"}, {"shape", box}}}), {0, 0, 0},
+                        {0.2, 0.1, 0.1}, {0, -9.81, 0});
   auto s = make_mpm(doc);
   // 8 per cell, 2 per axis: (10·2) × (5·2) × (5·2) points.
   EXPECT_EQ(s->particles().size(), std::size_t(20 * 10 * 10));
@@ -382,15 +435,15 @@ TEST(Mpm, EveryPointOfABodyThatFillsTheDomainIsKept) {
 }
 
 TEST(Mpm, ABodyReachingOutOfTheDomainIsAnErrorNamingIt) {
-  json doc = base_scene(
-      0.02, {{"jelly", {{"density", 1000.0}, {"youngs_modulus", 1e4}, {"poisson_ratio", 0.3}}}},
-      json::array({{{"name", "inside"},
-                    {"material", "jelly"},
-                    {"shape", {{"type", "box"}, {"min", {0.02, 0.02, 0.02}}, {"max", {0.08, 0.08, 0.08}}}}},
-                   {{"name", "poking-out"},
-                    {"material", "jelly"},
-                    {"shape", {{"type", "box"}, {"min", {0.1, 0.02, 0.02}}, {"max", {0.25, 0.08, 0.08}}}}}}),
-      {0, 0, 0}, {0.2, 0.1, 0.1}, {0, -9.81, 0});
+  json doc =
+      base_scene(0.02, {{"jelly", {{"density", 1000.0}, {"youngs_modulus", 1e4}, {"poisson_ratio", 0.3}}}},
+                 json::array({{{"name", "inside"},
+                               {"material", "jelly"},
+                               {"shape", {{"type", "box"}, {"min", {0.02, 0.02, 0.02}}, {"max", {0.08, 0.08, 0.08}}}}},
+                              {{"name", "poking-out"},
+                               {"material", "jelly"},
+                               {"shape", {{"type", "box"}, {"min", {0.1, 0.02, 0.02}}, {"max", {0.25, 0.08, 0.08}}}}}}),
+                 {0, 0, 0}, {0.2, 0.1, 0.1}, {0, -9.81, 0});
   try {
     make_mpm(doc);
     FAIL() << "a body reaching out of the domain was accepted";
@@ -408,12 +461,12 @@ namespace {
 // along −x: its mean displacement after 0.1 s.
 Real hanging_displacement(Real offset) {
   const Real dx = 0.01, b = 0.05;
-  json doc = base_scene(
-      dx, {{"jelly", {{"density", 1000.0}, {"youngs_modulus", 1e5}, {"poisson_ratio", 0.3}}}},
-      json::array({{{"name", "block"},
-                    {"material", "jelly"},
-                    {"shape", {{"type", "box"}, {"min", {-0.05, -b, -0.03}}, {"max", {0.05, b, 0.03}}}}}}),
-      {-0.15, -0.08, -0.05}, {0.15, 0.08, 0.05}, {-9.81, 0, 0});
+  json doc =
+      base_scene(dx, {{"jelly", {{"density", 1000.0}, {"youngs_modulus", 1e5}, {"poisson_ratio", 0.3}}}},
+                 json::array({{{"name", "block"},
+                               {"material", "jelly"},
+                               {"shape", {{"type", "box"}, {"min", {-0.05, -b, -0.03}}, {"max", {0.05, b, 0.03}}}}}}),
+                 {-0.15, -0.08, -0.05}, {0.15, 0.08, 0.05}, {-9.81, 0, 0});
   doc["colliders"] =
       json::array({{{"name", "lower"},
                     {"shape", {{"type", "plane"}, {"point", {0, -b - offset, 0}}, {"normal", {0, 1, 0}}}},

@@ -12,7 +12,7 @@
 
 namespace bakesim::mpm {
 
-// Spec 4.4: v_i = (m v)_i / m_i + Δt g, then the collider conditions.
+// Spec 4.4: v_i = (m v)_i / m_i + Δt g (Δt g / s with mass scaling), then the collider conditions.
 // With heat (spec 4.2, 4.3, 4.6): θ_i = E_i / M_i advanced by the explicit
 // rate, Δθ_i kept for the FLIP transfer; the boundary area of the node
 // a_i = Δx³ |∇φ|, φ = V_i / Δx³ by central differences (Σ a_i is the surface
@@ -27,7 +27,8 @@ namespace bakesim::mpm {
 void MpmSolver::phase_grid(Real dt) {
   ScopedPhase t(timers_, t_grid_);
   const Vec3 origin = grid_origin_;
-  const Vec3 g = setup_.gravity;
+  // With mass scaling the weight m g accelerates the inertia s m.
+  const Vec3 g = setup_.gravity / setup_.settings.mass_scaling;
   // The domain walls lie on the domain faces (the grid reaches kGuardCells beyond them).
   const ColliderGeometry walls = InsideBoxCollider{setup_.domain, setup_.periodic};  // none on periodic faces
   // A node takes a wall's condition when it lies in the solid or on its face, within

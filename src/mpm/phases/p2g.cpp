@@ -42,13 +42,16 @@ void MpmSolver::p2g(Real dt) {
   const Vec3 origin = grid_origin_;
   const std::size_t nz = nz_, syz = std::size_t(ny_) * nz_;
   const Real d_inv = 4.0 * inv_dx_ * inv_dx_;
+  const Real inertial_dt = dt / setup_.settings.mass_scaling;
   GridNode* const grid = grid_.data();
   HeatSums* const sums = heat_sums_.data();
   blocks_.for_each_by_colour(x_, origin, inv_dx_, [&](std::uint32_t p, const Axis& ax, const Axis& ay, const Axis& az) {
     const Stencil st{ax, ay, az, nz, syz};
     const Real mp = m_[p];
-    // A Δx, so that A (x_i − x_p) = (A Δx) · offset-in-cells.
-    const Real s = -dt * volume0_[p] * d_inv;
+    // A Δx, so that A (x_i − x_p) = (A Δx) · offset-in-cells. With mass
+    // scaling the force's impulse is Δt/s (the inertia s m_p, the momentum
+    // m_p v_p: the node's velocity gains Δt f / (s m)).
+    const Real s = -inertial_dt * volume0_[p] * d_inv;
     const Vec3 td = tau_diag_[p], to = tau_off_[p];
     Real a[3][3];  // a[col][row]
     const Vec3 cc[3] = {c0_[p], c1_[p], c2_[p]};
@@ -113,7 +116,7 @@ void MpmSolver::add_wall_ghost_stress(Real dt) {
       const Vec3 ghost = x_[p] - 2 * ghost_distance_[p] * n;
       const Vec3 g = (ghost - origin) * inv_dx_;
       const Axis ax = axis_weights(g.x()), ay = axis_weights(g.y()), az = axis_weights(g.z());
-      const Real s = -dt * volume0_[p] * d_inv * dx_;
+      const Real s = -(dt / setup_.settings.mass_scaling) * volume0_[p] * d_inv * dx_;
       const Vec3 td = tau_diag_[p], to = tau_off_[p];
       Mat3 tau;
       tau << td.x(), to.x(), to.y(), to.x(), td.y(), to.z(), to.y(), to.z(), td.z();

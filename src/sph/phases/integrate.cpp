@@ -9,10 +9,12 @@
 
 namespace bakesim::sph {
 
+// With mass scaling the inertia is s m: the forces' impulse over the kick is kick/s.
 void SphSolver::phase_kick(Real kick) {
   ScopedPhase t(timers_, t_kick_);
+  const Real impulse = kick / setup_.settings.mass_scaling;
   parallel_for(
-      x_.size(), [&](std::size_t i) { v_[i] += kick * a_[i]; }, 4096);
+      x_.size(), [&](std::size_t i) { v_[i] += impulse * a_[i]; }, 4096);
 }
 
 void SphSolver::phase_drift(Real dt) {
