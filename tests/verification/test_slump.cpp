@@ -156,6 +156,7 @@ INSTANTIATE_TEST_SUITE_P(TenCells, MpmSlump,
                            return std::to_string(std::get<0>(info.param)) + "_cells_sigma_" +
                                   std::to_string(int(std::lround(100 * std::get<1>(info.param))));
                          });
+
 // Quasi-static mass scaling (solver.mass_scaling): the column's final
 // state is an equilibrium of its weight and yield stress reached by a
 // creeping flow, neither of which depends on its inertia while the motion
