@@ -1054,6 +1054,23 @@ TEST(Scene, SphDivergenceFreePressureRefusesBubblesAndReadsItsTolerances) {
   expect_error(doc, {"solver.sph.pressure_solver"});
 }
 
+// Quasi-static mass scaling: one key for both solvers, at least 1, and not
+// with the divergence-free pressure (which holds the density by the true inertia).
+TEST(Scene, MassScalingIsReadForBothSolversAndRefusedWithTheDivergenceFreePressure) {
+  json doc = base_scene();
+  EXPECT_DOUBLE_EQ(parse_scene(doc.dump(), "scene.json", ".").sph.settings.mass_scaling, 1.0);
+  doc["solver"]["mass_scaling"] = 2.5;
+  EXPECT_DOUBLE_EQ(parse_scene(doc.dump(), "scene.json", ".").sph.settings.mass_scaling, 2.5);
+  doc["solver"]["mass_scaling"] = 0.5;
+  expect_error(doc, {"scene.json: solver.mass_scaling", ">= 1"});
+  doc["solver"]["mass_scaling"] = 2.5;
+  doc["solver"]["sph"]["pressure_solver"] = "divergence_free";
+  expect_error(doc, {"scene.json: solver.mass_scaling", "weakly compressible"});
+  json mpm = mpm_scene();
+  mpm["solver"]["mass_scaling"] = 4;
+  EXPECT_DOUBLE_EQ(parse_scene(mpm.dump(), "scene.json", ".").mpm.settings.mass_scaling, 4.0);
+}
+
 // The oven's air pressure (or the altitude, through the standard atmosphere) sets where the
 // materials' water boils, unless a material gives its own boiling point.
 TEST(Scene, AltitudeOrAirPressureSetsTheBoilingPoint) {
