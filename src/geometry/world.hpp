@@ -1,6 +1,7 @@
 #pragma once
 // Where a run happens, the same for both solvers: the domain box and the
-// contact law of its walls, gravity, the colliders and the oven. Each
+// contact law of its walls, gravity and the inertia it accelerates, the
+// colliders and the oven. Each
 // solver's Setup adds its settings, materials and bodies.
 #include <array>
 #include <vector>
@@ -9,6 +10,7 @@
 #include "geometry/colliders.hpp"
 #include "geometry/contact.hpp"
 #include "geometry/periodic.hpp"
+#include "physics/mass_scaling.hpp"
 #include "physics/oven.hpp"
 
 namespace bakesim {
@@ -22,6 +24,7 @@ struct World {
   std::array<bool, 3> periodic{false, false, false};
   Periodicity periodicity() const { return Periodicity{domain, periodic}; }
   Vec3 gravity = Vec3(0, -9.81, 0);
+  MassScaling mass_scaling;  // solver.mass_scaling (physics/mass_scaling.hpp)
   // SPH: analytic colliders and meshes; MPM: colliders act on the grid nodes
   // inside them (signed distance ≤ 0) through their velocity relative to their
   // own, mesh colliders through their signed distance grid.

@@ -137,7 +137,6 @@ mpm::Setup build_mpm_setup(const Ctx& c, const json& doc, const SceneParts& part
   st.cell_size = mj["cell_size"].get<double>();
   st.particles_per_cell = mj["particles_per_cell"].get<int>();
   st.reorder_every = mj["reorder_every"].get<int>();
-  st.mass_scaling = doc["solver"]["mass_scaling"].get<double>();
   st.cfl = doc["solver"]["cfl"].get<double>();
   st.max_dt = doc["solver"]["max_dt"].get<double>();
   st.baseline = mj["model"].get<std::string>() == "baseline";

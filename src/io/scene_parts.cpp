@@ -277,6 +277,7 @@ SceneParts read_common(const Ctx& c, const json& doc, FrictionModel solver_frict
     world.periodic[std::size_t(axis)] = true;
   }
   world.gravity = vec3(doc["gravity"]);
+  world.mass_scaling.factor = doc["solver"]["mass_scaling"].get<double>();
   world.oven = build_oven(c, doc["environment"]);
   for (std::size_t i = 0; i < doc["bodies"].size(); ++i) {
     const json& b = doc["bodies"][i];

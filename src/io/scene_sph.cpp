@@ -120,11 +120,6 @@ sph::Settings build_settings(const Ctx& c, const json& doc) {
   st.implicit_max_iterations = sj["implicit_viscosity"]["max_iterations"].get<int>();
   st.cfl = doc["solver"]["cfl"].get<double>();
   st.max_dt = doc["solver"]["max_dt"].get<double>();
-  st.mass_scaling = doc["solver"]["mass_scaling"].get<double>();
-  if (st.mass_scaling != 1 && st.pressure_solver == sph::PressureSolver::divergence_free)
-    c.fail("solver.mass_scaling",
-           "mass scaling works with the weakly compressible pressure only (the divergence-free solve holds the "
-           "density by the true inertia): leave it at 1 or use solver.sph.pressure_solver \"weakly_compressible\"");
   return st;
 }
 
@@ -146,6 +141,10 @@ sph::Setup build_sph_setup(const Ctx& c, json& doc, const SceneParts& parts) {
   }
   sph::Settings& st = setup.settings;
   st = build_settings(c, doc);
+  if (parts.world.mass_scaling.active() && st.pressure_solver == sph::PressureSolver::divergence_free)
+    c.fail("solver.mass_scaling",
+           "mass scaling works with the weakly compressible pressure only (the divergence-free solve holds the "
+           "density by the true inertia): leave it at 1 or use solver.sph.pressure_solver \"weakly_compressible\"");
   // Rising bubbles press by a gas law: their density is what the law
   // balances, not a rest density a solve could hold.
   if (st.pressure_solver == sph::PressureSolver::divergence_free)

@@ -54,9 +54,6 @@ struct Settings {
   Real cfl = 0.4;
   Real max_dt = 1e-3;
   int reorder_every = 16;  // steps between reordering particle memory by grid block
-  // Quasi-static mass scaling: the inertia is mass_scaling times the mass
-  // (gravity and the stress force accelerate it that much less).
-  Real mass_scaling = 1;
 };
 
 struct Setup : World {

@@ -254,7 +254,7 @@ Real MpmSolver::max_stable_dt() {
   };
   if (acc.vmax2 > 0) limit(s.cfl * dx_ / std::sqrt(acc.vmax2), "cfl");
   // Mass scaling slows the waves by sqrt(s) (the inertia s ρ).
-  if (max_wave_speed_ > 0) limit(s.cfl * dx_ * std::sqrt(s.mass_scaling) / max_wave_speed_, "elastic_wave");
+  if (max_wave_speed_ > 0) limit(s.cfl * dx_ * setup_.mass_scaling.wave_slowdown() / max_wave_speed_, "elastic_wave");
   if (heat) {
     const Real scale = setup_.oven.bake_time_scale;
     for (const Material& mat : setup_.materials) {

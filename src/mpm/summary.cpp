@@ -1,8 +1,6 @@
 // What an MPM run will simulate, for `bakesim validate`.
 #include <fmt/format.h>
 
-#include <cmath>
-
 #include "mpm/solver.hpp"
 
 namespace bakesim::mpm {
@@ -17,10 +15,10 @@ std::string MpmSolver::summary() const {
                      : ms.heat == HeatMethod::implicit ? "implicit"
                                                        : "explicit",
                      ms.baseline ? " (baseline model: no gas, no water)" : "");
-  if (ms.mass_scaling != 1)
+  if (setup_.mass_scaling.active())
     out += fmt::format(
         "inertia    mass scaling x{:g}: elastic waves {:.3g} times slower, quasi-static (docs/physics.md)\n",
-        ms.mass_scaling, std::sqrt(ms.mass_scaling));
+        setup_.mass_scaling.factor, setup_.mass_scaling.wave_slowdown());
   if (periodicity_.any())
     out +=
         fmt::format("periodic   along {} (no walls on those faces; guard nodes are images)\n", periodicity_.describe());

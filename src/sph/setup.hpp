@@ -136,9 +136,6 @@ struct Settings {
   Real viscous_factor = 0.125;
   Real force_factor = 0.25;
   Real max_dt = 1e-3;
-  // Quasi-static mass scaling: the inertia is mass_scaling times the mass
-  // (every force and the weight accelerate it that much less).
-  Real mass_scaling = 1;
 };
 
 struct Setup : World {

@@ -425,7 +425,7 @@ SphSolver::StepBounds SphSolver::time_step_bounds() const {
   bounds.add("max_dt", s.max_dt);
   // Weakly compressible: sound crosses ħ; divergence-free: the flow does (at rest no bound).
   // Mass scaling s: waves travel sqrt(s) slower, forces accelerate s times less.
-  const Real slow = std::sqrt(s.mass_scaling);
+  const Real slow = setup_.mass_scaling.wave_slowdown(), scale = setup_.mass_scaling.factor;
   if (!divergence_free_)
     bounds.add("cfl", s.cfl * hs / (s.speed_of_sound / slow + std::sqrt(e.v2)));
   else if (e.v2 > 0)
@@ -433,8 +433,8 @@ SphSolver::StepBounds SphSolver::time_step_bounds() const {
   // Shear waves of the Maxwell stress travel at sqrt(μ_e/ρ).
   // (Solved implicitly, they bound nothing: backward Euler damps them instead.)
   if (e.shear > 0 && !implicit_elasticity_) bounds.add("elastic", s.cfl * hs * slow / std::sqrt(e.shear));
-  if (e.nu > 0 && !implicit_viscosity_) bounds.add("viscosity", s.viscous_factor * hs * hs * s.mass_scaling / e.nu);
-  if (e.a2 > 0) bounds.add("force", s.force_factor * std::sqrt(hs * s.mass_scaling / std::sqrt(e.a2)));
+  if (e.nu > 0 && !implicit_viscosity_) bounds.add("viscosity", s.viscous_factor * hs * hs * scale / e.nu);
+  if (e.a2 > 0) bounds.add("force", s.force_factor * std::sqrt(hs * scale / std::sqrt(e.a2)));
   if (s.heat_conduction) {
     Real alpha = 0;  // thermal diffusivity k / (ρ c_p), largest over materials
     for (const Material& m : setup_.materials) {

@@ -1,8 +1,6 @@
 // What an SPH run will simulate, for `bakesim validate`.
 #include <fmt/format.h>
 
-#include <cmath>
-
 #include "sph/solver.hpp"
 
 namespace bakesim::sph {
@@ -19,11 +17,11 @@ std::string SphSolver::summary() const {
         st.density_tolerance, st.divergence_tolerance, st.pressure_max_iterations);
   else
     out += "pressure   weakly compressible (Tait)\n";
-  if (st.mass_scaling != 1)
+  if (setup_.mass_scaling.active())
     out += fmt::format(
         "inertia    mass scaling x{:g}: pressure and elastic waves {:.3g} times slower, quasi-static "
         "(docs/physics.md)\n",
-        st.mass_scaling, std::sqrt(st.mass_scaling));
+        setup_.mass_scaling.factor, setup_.mass_scaling.wave_slowdown());
   out += fmt::format("viscosity  {} (setting: {})\n", implicit_viscosity() ? "implicit" : "explicit",
                      to_string(st.viscosity_solver));
   if (elastic_)

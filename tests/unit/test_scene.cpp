@@ -1058,9 +1058,9 @@ TEST(Scene, SphDivergenceFreePressureRefusesBubblesAndReadsItsTolerances) {
 // with the divergence-free pressure (which holds the density by the true inertia).
 TEST(Scene, MassScalingIsReadForBothSolversAndRefusedWithTheDivergenceFreePressure) {
   json doc = base_scene();
-  EXPECT_DOUBLE_EQ(parse_scene(doc.dump(), "scene.json", ".").sph.settings.mass_scaling, 1.0);
+  EXPECT_DOUBLE_EQ(parse_scene(doc.dump(), "scene.json", ".").sph.mass_scaling.factor, 1.0);
   doc["solver"]["mass_scaling"] = 2.5;
-  EXPECT_DOUBLE_EQ(parse_scene(doc.dump(), "scene.json", ".").sph.settings.mass_scaling, 2.5);
+  EXPECT_DOUBLE_EQ(parse_scene(doc.dump(), "scene.json", ".").sph.mass_scaling.factor, 2.5);
   doc["solver"]["mass_scaling"] = 0.5;
   expect_error(doc, {"scene.json: solver.mass_scaling", ">= 1"});
   doc["solver"]["mass_scaling"] = 2.5;
@@ -1068,7 +1068,7 @@ TEST(Scene, MassScalingIsReadForBothSolversAndRefusedWithTheDivergenceFreePressu
   expect_error(doc, {"scene.json: solver.mass_scaling", "weakly compressible"});
   json mpm = mpm_scene();
   mpm["solver"]["mass_scaling"] = 4;
-  EXPECT_DOUBLE_EQ(parse_scene(mpm.dump(), "scene.json", ".").mpm.settings.mass_scaling, 4.0);
+  EXPECT_DOUBLE_EQ(parse_scene(mpm.dump(), "scene.json", ".").mpm.mass_scaling.factor, 4.0);
 }
 
 // The oven's air pressure (or the altitude, through the standard atmosphere) sets where the

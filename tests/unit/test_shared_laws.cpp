@@ -20,6 +20,7 @@
 #include "mpm/grid.hpp"
 #include "physics/moisture.hpp"
 #include "physics/heat.hpp"
+#include "physics/mass_scaling.hpp"
 #include "physics/oven.hpp"
 #include "physics/rheology.hpp"
 #include "sph/forces/artificial_stress.hpp"
@@ -30,6 +31,18 @@
 #include "sph/forces/viscosity.hpp"
 
 using namespace bakesim;
+
+// Mass scaling: the inertia s m takes a force's impulse over Δt/s and its
+// waves (speed sqrt(E/(s ρ))) are sqrt(s) times slower; s = 1 changes nothing.
+TEST(MassScaling, ImpulseStepAndWaveSlowdown) {
+  const MassScaling none, four{4.0};
+  EXPECT_FALSE(none.active());
+  EXPECT_EQ(none.impulse_step(1e-4), 1e-4);
+  EXPECT_EQ(none.wave_slowdown(), 1.0);
+  EXPECT_TRUE(four.active());
+  EXPECT_DOUBLE_EQ(four.impulse_step(1e-4), 2.5e-5);
+  EXPECT_DOUBLE_EQ(four.wave_slowdown(), 2.0);
+}
 
 TEST(Oven, BakeClockScalesTimeAndReadsTheScheduleInBakeTime) {
   Oven oven;

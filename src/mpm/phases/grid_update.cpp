@@ -28,7 +28,7 @@ void MpmSolver::phase_grid(Real dt) {
   ScopedPhase t(timers_, t_grid_);
   const Vec3 origin = grid_origin_;
   // With mass scaling the weight m g accelerates the inertia s m.
-  const Vec3 g = setup_.gravity / setup_.settings.mass_scaling;
+  const Vec3 g = setup_.gravity / setup_.mass_scaling.factor;
   // The domain walls lie on the domain faces (the grid reaches kGuardCells beyond them).
   const ColliderGeometry walls = InsideBoxCollider{setup_.domain, setup_.periodic};  // none on periodic faces
   // A node takes a wall's condition when it lies in the solid or on its face, within

@@ -42,7 +42,7 @@ void MpmSolver::p2g(Real dt) {
   const Vec3 origin = grid_origin_;
   const std::size_t nz = nz_, syz = std::size_t(ny_) * nz_;
   const Real d_inv = 4.0 * inv_dx_ * inv_dx_;
-  const Real inertial_dt = dt / setup_.settings.mass_scaling;
+  const Real inertial_dt = setup_.mass_scaling.impulse_step(dt);
   GridNode* const grid = grid_.data();
   HeatSums* const sums = heat_sums_.data();
   blocks_.for_each_by_colour(x_, origin, inv_dx_, [&](std::uint32_t p, const Axis& ax, const Axis& ay, const Axis& az) {
@@ -116,7 +116,7 @@ void MpmSolver::add_wall_ghost_stress(Real dt) {
       const Vec3 ghost = x_[p] - 2 * ghost_distance_[p] * n;
       const Vec3 g = (ghost - origin) * inv_dx_;
       const Axis ax = axis_weights(g.x()), ay = axis_weights(g.y()), az = axis_weights(g.z());
-      const Real s = -(dt / setup_.settings.mass_scaling) * volume0_[p] * d_inv * dx_;
+      const Real s = -setup_.mass_scaling.impulse_step(dt) * volume0_[p] * d_inv * dx_;
       const Vec3 td = tau_diag_[p], to = tau_off_[p];
       Mat3 tau;
       tau << td.x(), to.x(), to.y(), to.x(), td.y(), to.z(), to.y(), to.z(), td.z();

@@ -12,7 +12,7 @@ namespace bakesim::sph {
 // With mass scaling the inertia is s m: the forces' impulse over the kick is kick/s.
 void SphSolver::phase_kick(Real kick) {
   ScopedPhase t(timers_, t_kick_);
-  const Real impulse = kick / setup_.settings.mass_scaling;
+  const Real impulse = setup_.mass_scaling.impulse_step(kick);
   parallel_for(
       x_.size(), [&](std::size_t i) { v_[i] += impulse * a_[i]; }, 4096);
 }

@@ -48,7 +48,7 @@ void SphSolver::phase_viscosity(Real step) {
   if (!implicit_viscosity_) return;
   // Backward Euler of the momentum over the step: with mass scaling the
   // inertia is s M, (s M + Δt K) v = s M v*, solved as (M + (Δt/s) K) v = M v*.
-  const Real dt = step / setup_.settings.mass_scaling;
+  const Real dt = setup_.mass_scaling.impulse_step(step);
   ScopedPhase t(timers_, t_viscosity_);
   const std::size_t n = x_.size();
   const std::size_t stride = lists_.stride();
