@@ -62,7 +62,7 @@ mpm::Material build_material(const Ctx& c, const std::string& name, const json& 
   mat.water.diffusivity = wj["diffusivity"].get<double>();
   mat.water.evaporation_rate = wj["evaporation_rate"].get<double>();
   mat.water.stiffness = wj["stiffness"].get<double>();
-  mat.moisture = build_pore_water(m, oven);
+  mat.moisture = build_pore_water(c, mpath, m, oven);
   if (mat.moisture.active()) {
     // One water per material: moisture's liquid is carried as the paper's water
     // (its pressure, its Fick diffusion), its vapour and latent heat come in addition.

@@ -185,7 +185,7 @@ Oven build_oven(const Ctx& c, const json& env) {
   return oven;
 }
 
-PoreWater build_pore_water(const json& material, const Oven& oven) {
+PoreWater build_pore_water(const Ctx& c, const std::string& path, const json& material, const Oven& oven) {
   const json& w = material["moisture"];
   PoreWater p;
   p.moisture = w["content"].get<double>();
@@ -194,6 +194,13 @@ PoreWater build_pore_water(const json& material, const Oven& oven) {
   p.tortuosity = w["tortuosity"].get<double>();
   p.liquid_diffusivity = w["liquid_diffusivity"].get<double>();
   p.cell_heat_pipe = w["cell_heat_pipe"].get<double>();
+  if (w["surface_evaporation"].get<std::string>() == "supply_limited") {
+    p.surface_evaporation = PoreWater::SurfaceEvaporation::supply_limited;
+    if (p.moisture > 0 && !(p.liquid_diffusivity > 0))
+      c.fail(
+          path + ".moisture.surface_evaporation",
+          "\"supply_limited\" brings the water to the face by liquid diffusion: give moisture.liquid_diffusivity > 0");
+  }
   if (!w["dry_conductivity"].is_null()) p.dry_conductivity = w["dry_conductivity"].get<double>();
   p.latent_heat = w["latent_heat"].get<double>();
   p.air_pressure = oven.air_pressure;

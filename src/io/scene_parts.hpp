@@ -54,7 +54,7 @@ inline constexpr double kMinWallCells = 2;
 Collider build_collider(const Ctx& c, const json& cj, std::size_t i, Real cell, FrictionModel solver_default,
                         const Oven& oven);
 // materials.NAME.moisture (water, vapour and latent heat; physics/water.hpp).
-PoreWater build_pore_water(const json& material, const Oven& oven);
+PoreWater build_pore_water(const Ctx& c, const std::string& path, const json& material, const Oven& oven);
 // materials.NAME.set_temperature (null: never).
 IrreversibleSetting build_setting(const json& material);
 

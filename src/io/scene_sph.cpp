@@ -31,7 +31,7 @@ sph::Material build_material(const Ctx& c, const std::string& name, const json& 
   mat.relaxation_time = build_curve(c, path + ".relaxation_time", m["relaxation_time"]);
   if (std::visit([](const auto& curve) { return curve(-273.15) <= 0 || curve(2000.0) <= 0; }, mat.relaxation_time))
     c.fail(path + ".relaxation_time", "must stay above 0 s at every temperature");
-  mat.moisture = build_pore_water(m, oven);
+  mat.moisture = build_pore_water(c, path, m, oven);
   if (m.contains("herschel_bulkley")) {
     const json& hb = m["herschel_bulkley"];
     sph::Material::YieldFlow flow;

@@ -178,6 +178,30 @@ Real PoreWater::vapour_density(Real celsius, Real moisture_now) const {
   return ideal_vapour_density(sorption.activity(moisture_now, theta) * saturation_vapour_pressure(theta), theta);
 }
 
+Real PoreWater::surface_flux(Real vapour_now, Real celsius, Real moisture_now, Real dry_mass, Real volume, Real area,
+                             Real mass_transfer, Real air_vapour) const {
+  const Real mean_face = mass_transfer * (vapour_now - air_vapour);
+  if (surface_evaporation == SurfaceEvaporation::free || !(mean_face > 0)) return mean_face;
+  if (!(area > 0) || !(volume > 0) || !(dry_mass > 0)) return 0;
+  const Real reference = std::max(moisture, moisture_now), dry_density = dry_mass / volume;
+  // The loss per area, kept above a nanometre's worth of water (a face that has lost none is wet: the free rate).
+  const Real lost = std::max(dry_mass * (moisture - moisture_now) / area, 1e-9 * dry_density * reference);
+  const Real supply = 2 * dry_density * dry_density * liquid_diffusion(celsius) / (kPi * lost);
+  if (!(supply > 0)) return 0;  // no liquid moves: a face that has dried stays dry
+  const Real theta = std::min(celsius, boiling_point);
+  const Real saturated = ideal_vapour_density(saturation_vapour_pressure(theta), theta);
+  const auto pull = [&](Real face) {
+    return mass_transfer * (sorption.activity(face, theta) * saturated - air_vapour);
+  };
+  // supply (X₀ − X_s)² − pull(X_s) falls from > 0 at X_s = 0 (a dry face pulls nothing) to ≤ 0 at X₀.
+  Real dry = 0, wet = reference;
+  for (int k = 0; k < 48 && wet - dry > 1e-9 * reference; ++k) {
+    const Real face = 0.5 * (dry + wet);
+    (supply * (reference - face) * (reference - face) > pull(face) ? dry : wet) = face;
+  }
+  return std::max(pull(0.5 * (dry + wet)), Real(0));
+}
+
 Real PoreWater::step_diffusivity(Real hottest, Real density, Real specific_heat, Real volume_ratio) const {
   // For the most expanded particle: its gas fraction has grown and its heat capacity and dry mass per volume
   // have fallen by J. (Scaling the unexpanded value by J φ(J)/φ₀ instead divided by φ₀: a material without

@@ -81,6 +81,9 @@ struct PoreWater {
   Real cell_heat_pipe = 1;               // share of the closed-cell heat pipe (below), 0–1
   std::optional<Real> dry_conductivity;  // k of the dried dough (crust), W/(m K); none: the material's
   Real latent_heat = kLatentHeatAt100;   // h_fg, J/kg
+  // How water leaves a surface element below the boiling point (surface_flux).
+  enum class SurfaceEvaporation { free, supply_limited };
+  SurfaceEvaporation surface_evaporation = SurfaceEvaporation::free;
   Real boiling_point = 100;         // θ_b, °C: boiling_point_at(the oven's air pressure) unless the scene gives it
   Real air_pressure = kAtmosphere;  // p of the pore gas (the oven's air), Pa: D_v ∝ 1/p
   SorptionIsotherm sorption;
@@ -171,6 +174,27 @@ struct PoreWater {
     return carried && active() ? boiling_point + kBrowningAboveBoiling : -std::numeric_limits<Real>::infinity();
   }
   Real liquid_diffusion(Real celsius) const { return liquid_diffusivity * std::max(celsius, Real(0)) / 100.0; }
+  // Water leaving a surface element (particle or point) of dry mass m_d,
+  // volume V and area A facing the air at θ with moisture X, kg/(m² s)
+  // (< 0: the air's vapour condenses), by m = h_m (ρ_v,face − ρ_v,air).
+  // `free`: the face holds the element's mean moisture, ρ_v,face = ρ_v(θ, X).
+  // `supply_limited`: the face dries ahead of the element, and the liquid
+  // reaches it by diffusion across the depleted layer inside the element
+  // (an element is millimetres thick, the layer a fraction of one early in a
+  // bake). For a layer of initial moisture X₀ and dry density ρ_d = m_d / V
+  // whose face has stood at X_s, the layer's profile is Fick's erfc one
+  // (Crank 1975, Eq 3.14), which passes J = ρ_d (X₀ − X_s) √(D_w / (π t))
+  // after losing M = 2 ρ_d (X₀ − X_s) √(D_w t / π) per area; with t
+  // eliminated, J = 2 ρ_d² D_w(θ) (X₀ − X_s)² / (π M), M = m_d (X₀ − X) / A
+  // the element's own loss per area. The face moisture X_s balances that
+  // supply against the air's pull h_m (ρ_v(θ, X_s) − ρ_v,air) (bisection:
+  // one rises and the other falls with X_s): a wet face at first (the free
+  // rate), then the supply's J ∝ 1/M (falling-rate drying), and once the
+  // layer is deeper than the element the resolved diffusion between
+  // elements carries it (liquid_diffusivity > 0; 0 gives no flux).
+  // `vapour_now` is the element's ρ_v(θ, X) (vapour_density), which the solvers hold.
+  Real surface_flux(Real vapour_now, Real celsius, Real moisture_now, Real dry_mass, Real volume, Real area,
+                    Real mass_transfer, Real air_vapour) const;
   // Largest diffusivity of the coupled heat–water system a particle of
   // heat capacity per volume ρc (J/(m³K)) and dry density ρ_dry (kg/m³) sees
   // at θ and X, m²/s: the explicit step bound is Δx² / (2·dim·this).

@@ -275,6 +275,22 @@ TEST(Scene, SetSofteningNeedsCamClayASetTemperatureAndWater) {
   expect_error(ramp, {"materials.dough.plasticity.brittle_water_loss"});
 }
 
+// moisture.surface_evaporation: "free" by default; "supply_limited" brings the liquid to the face by
+// diffusion, so it needs a liquid diffusivity (refused without one, naming the key), in both solvers.
+TEST(Scene, SupplyLimitedSurfaceEvaporationNeedsALiquidDiffusivity) {
+  for (const json& base : {base_scene(), mpm_scene()}) {
+    json d = base;
+    const std::string name = d["materials"].begin().key();
+    d["materials"][name].erase("water");  // MPM: the water comes from the moisture
+    d["materials"][name]["moisture"] = {{"content", 0.5}, {"surface_evaporation", "supply_limited"}};
+    expect_error(d, {"materials." + name + ".moisture.surface_evaporation", "liquid_diffusivity"});
+    d["materials"][name]["moisture"]["liquid_diffusivity"] = 5e-10;
+    EXPECT_NO_THROW(parse_scene(d.dump(), "scene.json", "."));
+    d["materials"][name]["moisture"]["surface_evaporation"] = "wet";
+    expect_error(d, {"surface_evaporation"});
+  }
+}
+
 // Keys only the other solver reads are refused with the key path and the
 // solver that reads them, in both directions; their defaults do not appear in
 // the resolved scene.

@@ -351,3 +351,57 @@ TEST(Water, CrustFaceBalancesTheAirsHeatAgainstTheCrustOverTheBoilingFront) {
   nodal.dried_fraction = 0;
   EXPECT_DOUBLE_EQ(nodal.temperature(70, air, h), 70);
 }
+
+namespace {
+// The Zhang loaf's dough (scenes/zhang-loaf-*.json): X0 0.537 at 301 kg/m^3, so 195.8 kg/m^3 of dry solid.
+PoreWater supply_limited_dough(Real liquid_diffusivity) {
+  PoreWater w;
+  w.moisture = 0.537, w.gas_fraction = 0.615, w.liquid_diffusivity = liquid_diffusivity;
+  w.surface_evaporation = PoreWater::SurfaceEvaporation::supply_limited;
+  return w;
+}
+}  // namespace
+
+TEST(Water, AFreeSurfaceLosesItsMeanVapourAndASupplyLimitedOneDoesSoOnlyWhileWet) {
+  PoreWater free = supply_limited_dough(1e-9);
+  free.surface_evaporation = PoreWater::SurfaceEvaporation::free;
+  const Real h_m = 0.0145, theta = 60, dry = 1e-3, volume = dry / 195.8, area = volume / 2e-3;
+  const Real mean = free.vapour_density(theta, 0.537);
+  EXPECT_EQ(free.surface_flux(mean, theta, 0.537, dry, volume, area, h_m, 0.01), h_m * (mean - 0.01));
+  // A face that has lost nothing (the law's floor: a nanometre's worth) is wet: the free rate within 0.1%.
+  const PoreWater limited = supply_limited_dough(1e-9);
+  EXPECT_NEAR(limited.surface_flux(mean, theta, 0.537, dry, volume, area, h_m, 0), h_m * mean, 1e-3 * h_m * mean);
+  // Humid air condenses on it as on the free surface (the supply limits what leaves, not what arrives).
+  const Real humid = 2 * mean;
+  EXPECT_EQ(limited.surface_flux(mean, theta, 0.537, dry, volume, area, h_m, humid), h_m * (mean - humid));
+  // Without liquid diffusion nothing reaches a face that has dried.
+  EXPECT_EQ(supply_limited_dough(0).surface_flux(mean, theta, 0.5, dry, volume, area, h_m, 0), 0);
+}
+
+// A layer thick enough that the depletion stays inside it, its face swept by air that pulls far harder than
+// the liquid can follow: its loss per area must follow Fick's semi-infinite desorption with the face at its
+// (small) moisture X_s, M(t) = 2 rho_d (X0 - X_s) sqrt(D t / pi) (Crank 1975, The Mathematics of Diffusion,
+// Eq 3.14 integrated over time), integrated here step by step from the flux alone.
+TEST(Water, ASupplyLimitedFaceLosesWaterAsFicksErfcProfileOfASemiInfiniteLayer) {
+  const Real diffusivity = 1e-9, theta = 80, h_m = 1.0;  // D_w(80 degC) = 0.8e-9
+  const PoreWater w = supply_limited_dough(diffusivity);
+  const Real area = 1, depth = 0.1, volume = area * depth, dry = 195.8 * volume;
+  const Real rho_dry = dry / volume, d = w.liquid_diffusion(theta);
+  Real water = w.initial_water(dry * (1 + w.moisture)), lost_per_area = 0, face_moisture_sum = 0;
+  const Real dt = 0.01, end = 600;
+  int steps = 0;
+  for (Real t = 0; t < end - 0.5 * dt; t += dt, ++steps) {
+    const Real x = water / dry;
+    const Real flux = w.surface_flux(w.vapour_density(theta, x), theta, x, dry, volume, area, h_m, 0);
+    water -= flux * area * dt;
+    lost_per_area += flux * dt;
+    // The face moisture the flux stands for: the isotherm's X at a_w = flux / (h_m rho_sat).
+    face_moisture_sum += w.sorption.moisture_at(flux / (h_m * w.vapour_density(theta, 1e3)), theta);
+  }
+  const Real face = face_moisture_sum / steps;
+  EXPECT_LT(face, 0.05 * w.moisture);  // the air keeps the face nearly dry
+  const Real erfc_loss = 2 * rho_dry * (w.moisture - face) * std::sqrt(d * end / kPi);
+  std::printf("loss per area after %g s: %.5g kg/m^2, erfc solution %.5g (face X %.4f)\n", end, lost_per_area,
+              erfc_loss, face);
+  EXPECT_NEAR(lost_per_area / erfc_loss, 1.0, 0.01);
+}

@@ -161,7 +161,11 @@ void MpmSolver::phase_plasticity(Real dt) {
                               const PoreWater::PoreVapour vapour = pw.pore_vapour(theta, x, phi);
                               moisture_[i] = x;
                               vapour_density_[i] = vapour.density;
-                              vapour_src_[i] = -mass_transfer * (vapour.density - air_vapour) * air_area_[i];
+                              vapour_src_[i] =
+                                  air_area_[i] > 0
+                                      ? -air_area_[i] * pw.surface_flux(vapour.density, theta, x, pw.dry_mass(m_[i]),
+                                                                        volume, air_area_[i], mass_transfer, air_vapour)
+                                      : 0;
                               cell_k_[i] =
                                   vapour.cell_conductivity + pw.drying_conductivity_change(mat.conductivity, x);
                               vapour_vec_[i] =

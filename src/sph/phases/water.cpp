@@ -15,7 +15,8 @@ namespace bakesim::sph {
 //   dm_i/dt = V_i Σ_j V_j (D_i + D_j)(c_i − c_j) x_ij·∇W_ij / (r² + η²)
 // with c = ρ_v, D = φ_g D_v(θ) for the vapour and c = W/V, D = D_w(θ) for the
 // liquid. The water a particle gains as vapour condenses and gives h_fg
-// (evaporating takes it); at the surface m = h_m (ρ_v − ρ_v,air) A leaves,
+// (evaporating takes it); at the surface m = h_m (ρ_v,face − ρ_v,air) A leaves
+// (PoreWater::surface_flux: the face at the particle's moisture, or drier),
 // where heat goes to the air (not to a heated collider: colliders take no
 // vapour). Then the boiling cap: moist dough does not heat past θ_b.
 void SphSolver::phase_water(Real dt) {
@@ -65,7 +66,13 @@ void SphSolver::phase_water(Real dt) {
     }
     Real gained_as_vapour = dtb * volume_[i] * vapour_sum;
     // The share of its area facing the air (none against a heated collider or an insulating one).
-    if (face_share_[i] > 0) gained_as_vapour -= dtb * h_m * (vapour[i] - air_vapour) * face_share_[i] * area_[i];
+    if (face_share_[i] > 0) {
+      const PoreWater& pw = setup_.materials[material_[i]].moisture;
+      const Real air_area = face_share_[i] * area_[i];
+      gained_as_vapour -= dtb * air_area *
+                          pw.surface_flux(vapour[i], temperature_[i], moisture[i], pw.dry_mass(m_[i]), volume_[i],
+                                          air_area, h_m, air_vapour);
+    }
     water_change_[i] = {gained_as_vapour, dtb * volume_[i] * liquid_sum};
   });
   // Apply, with latent heat and the boiling cap; book what left.
