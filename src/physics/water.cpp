@@ -179,25 +179,42 @@ Real PoreWater::vapour_density(Real celsius, Real moisture_now) const {
 }
 
 Real PoreWater::surface_flux(Real vapour_now, Real celsius, Real moisture_now, Real dry_mass, Real volume, Real area,
-                             Real mass_transfer, Real air_vapour) const {
+                             Real mass_transfer, Real air_vapour, Real step) const {
   const Real mean_face = mass_transfer * (vapour_now - air_vapour);
   if (surface_evaporation == SurfaceEvaporation::free || !(mean_face > 0)) return mean_face;
   if (!(area > 0) || !(volume > 0) || !(dry_mass > 0)) return 0;
   const Real reference = std::max(moisture, moisture_now), dry_density = dry_mass / volume;
   // The loss per area, kept above a nanometre's worth of water (a face that has lost none is wet: the free rate).
   const Real lost = std::max(dry_mass * (moisture - moisture_now) / area, 1e-9 * dry_density * reference);
-  const Real supply = 2 * dry_density * dry_density * liquid_diffusion(celsius) / (kPi * lost);
-  if (!(supply > 0)) return 0;  // no liquid moves: a face that has dried stays dry
+  const Real diffusivity = liquid_diffusion(celsius);
+  if (!(diffusivity > 0)) return 0;  // no liquid moves: a face that has dried stays dry
+  // The erfc layer's depth for this loss, δ = π M / (2 ρ_d X₀), against the element's face distance
+  // L = V / (2 A): once δ passes L the layer's erfc tail reaches the elements behind it, the element's own
+  // loss no longer measures the layer's, and the face takes the resolved gradient from the element's
+  // centre, ρ_d D (X − X_s) / L (blended over L < δ < 2L).
+  const Real half_depth = volume / (2 * area);
+  const Real layer = kPi * lost / (2 * dry_density * reference * half_depth);  // δ / L
+  const Real resolved = std::clamp(layer - 1, Real(0), Real(1));
+  // dM/dt = K / M with K = 2 ρ_d² D (X₀ − X_s)² / π, taken over the step exactly (M² grows by 2 K Δt):
+  // the mean rate (√(M² + 2 K Δt) − M) / Δt, so that the first steps of a wet face neither overshoot nor
+  // lag the square-root law whatever the step (K / M as Δt → 0).
+  const Real unresolved_k = (1 - resolved) * 2 * dry_density * dry_density * diffusivity / kPi;
+  const Real resolved_rate = resolved * dry_density * diffusivity / half_depth;
+  const auto supply = [&](Real face) {
+    const Real k = unresolved_k * (reference - face) * (reference - face);
+    const Real unresolved = step > 0 ? (std::sqrt(lost * lost + 2 * k * step) - lost) / step : k / lost;
+    return unresolved + resolved_rate * std::max(moisture_now - face, Real(0));
+  };
   const Real theta = std::min(celsius, boiling_point);
   const Real saturated = ideal_vapour_density(saturation_vapour_pressure(theta), theta);
   const auto pull = [&](Real face) {
     return mass_transfer * (sorption.activity(face, theta) * saturated - air_vapour);
   };
-  // supply (X₀ − X_s)² − pull(X_s) falls from > 0 at X_s = 0 (a dry face pulls nothing) to ≤ 0 at X₀.
+  // supply(X_s) − pull(X_s) falls from > 0 at X_s = 0 (a dry face pulls nothing) to ≤ 0 at X₀.
   Real dry = 0, wet = reference;
   for (int k = 0; k < 48 && wet - dry > 1e-9 * reference; ++k) {
     const Real face = 0.5 * (dry + wet);
-    (supply * (reference - face) * (reference - face) > pull(face) ? dry : wet) = face;
+    (supply(face) > pull(face) ? dry : wet) = face;
   }
   return std::max(pull(0.5 * (dry + wet)), Real(0));
 }

@@ -192,9 +192,14 @@ struct PoreWater {
   // rate), then the supply's J ∝ 1/M (falling-rate drying), and once the
   // layer is deeper than the element the resolved diffusion between
   // elements carries it (liquid_diffusivity > 0; 0 gives no flux).
+  // Once the layer is deeper than the element's thickness (δ = π M / (2 ρ_d X₀) past 2L, L = V / (2A)
+  // its face distance), the element's own loss no longer measures the layer's, and the face takes the
+  // resolved gradient from the element's centre, ρ_d D_w (X − X_s) / L (blended in by δ = 4L). The
+  // supply is taken over the step `step` (bake seconds) exactly, M² growing by 2 K Δt, so that a wet face's
+  // first steps follow the square-root law at any step (0: the instantaneous K / M).
   // `vapour_now` is the element's ρ_v(θ, X) (vapour_density), which the solvers hold.
   Real surface_flux(Real vapour_now, Real celsius, Real moisture_now, Real dry_mass, Real volume, Real area,
-                    Real mass_transfer, Real air_vapour) const;
+                    Real mass_transfer, Real air_vapour, Real step = 0) const;
   // Largest diffusivity of the coupled heat–water system a particle of
   // heat capacity per volume ρc (J/(m³K)) and dry density ρ_dry (kg/m³) sees
   // at θ and X, m²/s: the explicit step bound is Δx² / (2·dim·this).

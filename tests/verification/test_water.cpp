@@ -276,3 +276,81 @@ TEST_P(WaterAtAltitude, MoistDoughStopsAtTheBoilingPointOfTheAirsPressure) {
 }
 
 INSTANTIATE_TEST_SUITE_P(BothSolvers, WaterAtAltitude, ::testing::Values("sph", "mpm"));
+
+// Drying through faces the particles do not resolve (moisture.surface_evaporation supply_limited,
+// physics/water.hpp surface_flux): a moist 24 mm cube in air that pulls far harder than the liquid can
+// follow (h_m 0.5 m/s, with an isotherm that leaves its face nearly dry), held at 60 degC (air and dough at 60, a latent heat of 1 kJ/kg so that evaporation
+// does not cool it), loses its water as Fick's diffusion out of a cube whose faces are held dry: the
+// product of three plane sheets' solutions, remaining fraction F(t)^3 with
+// F = sum 8/((2n+1)^2 pi^2) exp(-(2n+1)^2 pi^2 D t / a^2) (Crank 1975, The Mathematics of Diffusion,
+// Eq 4.18, and §4.3 for the product). First the depleted layer lies inside the outer particles (their
+// faces' supply, 2 rho_d^2 D X0^2 / (pi M)), then the resolved diffusion between particles carries it.
+// D_w is ten times a dough's (1e-8 m^2/s at 100 degC, 6e-9 at 60) so that the layer reaches several
+// particles deep in half an hour.
+class SurfaceDrying : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(SurfaceDrying, ACubesWaterLeavesByFicksDiffusionThroughDriedFaces) {
+  constexpr double kSideA = 0.024, kTheta = 60, kX = 0.6, kD100 = 1e-8;
+  const bool sph = GetParam() == "sph";
+  json s = sph ? json{{"type", "sph"}, {"sph", {{"spacing", 0.002}, {"speed_of_sound", 3.0}}}}
+               : json{{"type", "mpm"}, {"mpm", {{"cell_size", 0.002}, {"heat", "explicit"}}}};
+  json material = {{"density", 400.0},
+                   {"specific_heat", 2500.0},
+                   {"conductivity", 0.3},
+                   {"moisture",
+                    {{"content", kX},
+                     {"liquid_diffusivity", kD100},
+                     {"vapour_diffusivity", 0.0},
+                     {"cell_heat_pipe", 0.0},
+                     {"latent_heat", 1000.0},
+                     // An isotherm that holds little water at low activity (a = 1: X 0.003 at a_w 0.02),
+                     // so the face dries nearly to 0 as the solution has it.
+                     {"sorption", {{"oswin_a_offset", 0.0}}},
+                     {"surface_evaporation", "supply_limited"}}}};
+  if (sph)
+    material["viscosity"] = 20.0;
+  else
+    material["youngs_modulus"] = 2e4;
+  const double half = 0.5 * kSideA;
+  const json doc = {
+      {"solver", s},
+      {"time", {{"end", 1.0}}},
+      {"gravity", {0, 0, 0}},
+      {"environment",
+       {{"air_temperature", kTheta},
+        {"heat_transfer_coefficient", 50.0},
+        {"mass_transfer_coefficient", 0.5},
+        {"bake_time_scale", 20000.0}}},
+      {"domain", {{"min", {-0.03, -0.03, -0.03}}, {"max", {0.03, 0.03, 0.03}}}},
+      {"materials", {{"dough", material}}},
+      {"bodies",
+       json::array({{{"name", "cube"},
+                     {"material", "dough"},
+                     {"temperature", kTheta},
+                     {"shape", {{"type", "box"}, {"min", {-half, -half, -half}}, {"max", {half, half, half}}}}}})}};
+  std::unique_ptr<Solver> solver = make_solver(parse_scene(doc.dump(), "scene.json", "."));
+  const auto water_in = [&] {
+    double w = 0;
+    for (double v : solver->particles().scalar("water_mass")) w += v;
+    return w;
+  };
+  const double water0 = water_in(), d = kD100 * kTheta / 100;
+  for (const double bake_seconds : {20.0, 60.0, 150.0, 600.0, 1800.0}) {
+    test_support::advance_to(*solver, bake_seconds / 20000.0);
+    double sheet = 0;  // F(t) of one plane sheet of thickness a with both faces dry
+    for (int n = 0; n < 200; ++n) {
+      const double k = (2 * n + 1) * kPi;
+      sheet += 8 / (k * k) * std::exp(-k * k * d * bake_seconds / (kSideA * kSideA));
+    }
+    const double fick = 1 - sheet * sheet * sheet, lost = 1 - water_in() / water0;
+    double coldest = 1e9;
+    for (double t : solver->particles().scalar("temperature")) coldest = std::min(coldest, t);
+    std::printf("%s: after %4.0f s %.4f of the water lost, Fick %.4f (ratio %.3f; layer %.1f mm), coldest %.2f degC\n",
+                GetParam().c_str(), bake_seconds, lost, fick, lost / fick, 1e3 * std::sqrt(kPi * d * bake_seconds),
+                coldest);
+    RecordProperty("ratio_at_" + std::to_string(int(bake_seconds)), std::to_string(lost / fick));
+    EXPECT_NEAR(lost / fick, 1.0, 0.08) << "t = " << bake_seconds << " s";
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(BothSolvers, SurfaceDrying, ::testing::Values("sph", "mpm"));

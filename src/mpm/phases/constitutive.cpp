@@ -164,7 +164,8 @@ void MpmSolver::phase_plasticity(Real dt) {
                               vapour_src_[i] =
                                   air_area_[i] > 0
                                       ? -air_area_[i] * pw.surface_flux(vapour.density, theta, x, pw.dry_mass(m_[i]),
-                                                                        volume, air_area_[i], mass_transfer, air_vapour)
+                                                                        volume, air_area_[i], mass_transfer, air_vapour,
+                                                                        dtb)
                                       : 0;
                               cell_k_[i] =
                                   vapour.cell_conductivity + pw.drying_conductivity_change(mat.conductivity, x);

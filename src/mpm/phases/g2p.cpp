@@ -100,7 +100,9 @@ void MpmSolver::g2p(Real dt) {
           // Moisture (physics/water.hpp): the water that arrives or leaves as vapour
           // condenses or evaporates here, giving or taking h_fg; then the boiling cap.
           const Real vapour_gain = water_[p] * sum.vapour_ratio;
-          water_[p] *= 1 + sum.water_ratio + sum.vapour_ratio;
+          // Never below none: a strong surface sink at a corner node can ask a step for a little more than its
+          // points hold (a factor of −1e-66 was seen with h_m 0.5 m/s), which the health check refuses.
+          water_[p] *= std::max(Real(0), 1 + sum.water_ratio + sum.vapour_ratio);
           air_area_[p] = volume * sum.air_area;
           // The area-weighted mean offset of the nodes that give the particle its area: the face,
           // seen from the particle (cells; the area profile of ∇φ is centred on the face).
