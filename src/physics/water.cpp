@@ -200,23 +200,55 @@ Real PoreWater::surface_flux(Real vapour_now, Real celsius, Real moisture_now, R
   // lag the square-root law whatever the step (K / M as Δt → 0).
   const Real unresolved_k = (1 - resolved) * 2 * dry_density * dry_density * diffusivity / kPi;
   const Real resolved_rate = resolved * dry_density * diffusivity / half_depth;
-  const auto supply = [&](Real face) {
-    const Real k = unresolved_k * (reference - face) * (reference - face);
-    const Real unresolved = step > 0 ? (std::sqrt(lost * lost + 2 * k * step) - lost) / step : k / lost;
-    return unresolved + resolved_rate * std::max(moisture_now - face, Real(0));
-  };
   const Real theta = std::min(celsius, boiling_point);
   const Real saturated = ideal_vapour_density(saturation_vapour_pressure(theta), theta);
-  const auto pull = [&](Real face) {
-    return mass_transfer * (sorption.activity(face, theta) * saturated - air_vapour);
+  // The isotherm's a (one exp) once, then a_w = y / (1 + y), y = (X / (a/100))^(1/n) per trial.
+  const Real oswin_a = std::exp(sorption.oswin_a_slope * (theta + kZeroCelsius) + sorption.oswin_a_offset) / 100.0;
+  const Real inverse_exponent = 1 / sorption.oswin_exponent;
+  // g(X_s) = supply(X_s) − pull(X_s) and its slope: the supply falls and the pull rises with X_s, so g
+  // falls from > 0 at X_s = 0 (a dry face pulls nothing) to ≤ 0 at X₀; Newton's method kept inside the
+  // bracket (bisection where a step would leave it), a few trials where bisection took 30.
+  struct Trial {
+    Real g, slope, pull;
   };
-  // supply(X_s) − pull(X_s) falls from > 0 at X_s = 0 (a dry face pulls nothing) to ≤ 0 at X₀.
-  Real dry = 0, wet = reference;
-  for (int k = 0; k < 48 && wet - dry > 1e-9 * reference; ++k) {
-    const Real face = 0.5 * (dry + wet);
-    (supply(face) > pull(face) ? dry : wet) = face;
+  const auto trial = [&](Real face) {
+    const Real y = face > 0 ? std::pow(face / oswin_a, inverse_exponent) : 0;
+    const Real activity = y / (1 + y);
+    const Real pull = mass_transfer * (activity * saturated - air_vapour);
+    const Real pull_slope =
+        face > 0 ? mass_transfer * saturated * y * inverse_exponent / (face * (1 + y) * (1 + y)) : 0;
+    const Real gap = reference - face, k = unresolved_k * gap * gap, k_slope = -2 * unresolved_k * gap;
+    Real supply, supply_slope;
+    if (step > 0) {
+      const Real root = std::sqrt(lost * lost + 2 * k * step);
+      supply = (root - lost) / step, supply_slope = k_slope / root;
+    } else {
+      supply = k / lost, supply_slope = k_slope / lost;
+    }
+    if (moisture_now > face) supply += resolved_rate * (moisture_now - face), supply_slope -= resolved_rate;
+    return Trial{supply - pull, supply_slope - pull_slope, pull};
+  };
+  // Start where the pull takes what a dry face is supplied (the isotherm inverted once): the face is
+  // usually far drier than X₀, so this lies within a few per cent of the root; else at X₀, where a pull
+  // weaker than the supply leaves the face wet (the free rate).
+  Real dry = 0, wet = reference, face = wet;
+  const Real dry_supply = trial(0).g - mass_transfer * air_vapour;  // supply(0); pull(0) = −h_m ρ_v,air
+  const Real activity = (dry_supply / mass_transfer + air_vapour) / saturated;
+  const Real guess =
+      activity > 0 && activity < 1 ? oswin_a * std::pow(activity / (1 - activity), sorption.oswin_exponent) : reference;
+  if (guess > 0 && guess < wet) face = guess;
+  Trial at = trial(face);
+  if (face == wet && !(at.g < 0)) return std::max(at.pull, Real(0));
+  for (int k = 0; k < 60; ++k) {
+    (at.g > 0 ? dry : wet) = face;
+    Real next = at.slope < 0 ? face - at.g / at.slope : 0.5 * (dry + wet);
+    if (!(next > dry && next < wet)) next = 0.5 * (dry + wet);
+    const bool converged = std::abs(next - face) <= 1e-6 * reference;
+    face = next;
+    at = trial(face);
+    if (converged || wet - dry <= 1e-6 * reference) break;
   }
-  return std::max(pull(0.5 * (dry + wet)), Real(0));
+  return std::max(at.pull, Real(0));
 }
 
 Real PoreWater::step_diffusivity(Real hottest, Real density, Real specific_heat, Real volume_ratio) const {
