@@ -182,22 +182,20 @@ struct PoreWater {
   // reaches it by diffusion across the depleted layer inside the element
   // (an element is millimetres thick, the layer a fraction of one early in a
   // bake). For a layer of initial moisture X₀ and dry density ρ_d = m_d / V
-  // whose face has stood at X_s, the layer's profile is Fick's erfc one
-  // (Crank 1975, Eq 3.14), which passes J = ρ_d (X₀ − X_s) √(D_w / (π t))
-  // after losing M = 2 ρ_d (X₀ − X_s) √(D_w t / π) per area; with t
-  // eliminated, J = 2 ρ_d² D_w(θ) (X₀ − X_s)² / (π M), M = m_d (X₀ − X) / A
-  // the element's own loss per area. The face moisture X_s balances that
-  // supply against the air's pull h_m (ρ_v(θ, X_s) − ρ_v,air) (bisection:
-  // one rises and the other falls with X_s): a wet face at first (the free
-  // rate), then the supply's J ∝ 1/M (falling-rate drying), and once the
-  // layer is deeper than the element the resolved diffusion between
-  // elements carries it (liquid_diffusivity > 0; 0 gives no flux).
-  // Once the layer is deeper than the element's thickness (δ = π M / (2 ρ_d X₀) past 2L, L = V / (2A)
-  // its face distance), the element's own loss no longer measures the layer's, and the face takes the
-  // resolved gradient from the element's centre, ρ_d D_w (X − X_s) / L (blended in by δ = 4L). The
-  // supply is taken over the step `step` (bake seconds) exactly, M² growing by 2 K Δt, so that a wet face's
-  // first steps follow the square-root law at any step (0: the instantaneous K / M).
-  // `vapour_now` is the element's ρ_v(θ, X) (vapour_density), which the solvers hold.
+  // whose face has stood at X_s, the profile is Fick's erfc one (Crank 1975,
+  // Eq 3.14), which passes J = ρ_d (X₀ − X_s) √(D_w / (π t)) after losing
+  // M = 2 ρ_d (X₀ − X_s) √(D_w t / π) per area; with t eliminated,
+  // J = 2 ρ_d² D_w(θ) (X₀ − X_s)² / (π M), M = m_d (X₀ − X) / A the element's
+  // own loss per area, taken over the step `step` (bake seconds) exactly (M²
+  // grows by 2 K Δt; 0: the instantaneous rate). Once the layer's depth
+  // δ = π M / (2 ρ_d X₀) passes the element's face distance L = V / (2A), the
+  // element's own loss no longer measures the layer's, and the face takes the
+  // resolved gradient from its centre, ρ_d D_w (X − X_s) / L (blended in
+  // linearly up to δ = 2L). X_s balances the supply against the air's pull
+  // h_m (ρ_v(θ, X_s) − ρ_v,air) (Newton's method in [0, X₀]): a wet face at
+  // first (the free rate), then falling-rate drying (liquid_diffusivity > 0;
+  // 0 gives no flux). `vapour_now` is the element's ρ_v(θ, X), which the
+  // solvers hold.
   Real surface_flux(Real vapour_now, Real celsius, Real moisture_now, Real dry_mass, Real volume, Real area,
                     Real mass_transfer, Real air_vapour, Real step = 0) const;
   // Largest diffusivity of the coupled heat–water system a particle of
