@@ -279,14 +279,15 @@ INSTANTIATE_TEST_SUITE_P(BothSolvers, WaterAtAltitude, ::testing::Values("sph", 
 
 // Drying through faces the particles do not resolve (moisture.surface_evaporation supply_limited,
 // physics/water.hpp surface_flux): a moist 24 mm cube in air that pulls far harder than the liquid can
-// follow (h_m 0.5 m/s, with an isotherm that leaves its face nearly dry), held at 60 degC (air and dough at 60, a latent heat of 1 kJ/kg so that evaporation
-// does not cool it), loses its water as Fick's diffusion out of a cube whose faces are held dry: the
-// product of three plane sheets' solutions, remaining fraction F(t)^3 with
+// follow (h_m 0.5 m/s, with an isotherm that leaves its face nearly dry), held at 60 degC (air and dough
+// at 60, a latent heat of 1 kJ/kg so that evaporation does not cool it), loses its water as Fick's
+// diffusion out of a cube whose faces are held dry: the remaining fraction is the product of three plane
+// sheets' (a box whose faces are held at one concentration separates by axis), F(t)^3 with
 // F = sum 8/((2n+1)^2 pi^2) exp(-(2n+1)^2 pi^2 D t / a^2) (Crank 1975, The Mathematics of Diffusion,
-// Eq 4.18, and §4.3 for the product). First the depleted layer lies inside the outer particles (their
-// faces' supply, 2 rho_d^2 D X0^2 / (pi M)), then the resolved diffusion between particles carries it.
-// D_w is ten times a dough's (1e-8 m^2/s at 100 degC, 6e-9 at 60) so that the layer reaches several
-// particles deep in half an hour.
+// Eq 4.18). First the depleted layer lies inside the outer particles (their faces' supply,
+// 2 rho_d^2 D X0^2 / (pi M)), then the resolved diffusion between particles carries it. D_w is ten times
+// a dough's (1e-8 m^2/s at 100 degC, 6e-9 at 60) so that the layer reaches several particles deep in
+// half an hour.
 class SurfaceDrying : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(SurfaceDrying, ACubesWaterLeavesByFicksDiffusionThroughDriedFaces) {
