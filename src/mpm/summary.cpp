@@ -15,10 +15,7 @@ std::string MpmSolver::summary() const {
                      : ms.heat == HeatMethod::implicit ? "implicit"
                                                        : "explicit",
                      ms.baseline ? " (baseline model: no gas, no water)" : "");
-  if (setup_.mass_scaling.active())
-    out += fmt::format(
-        "inertia    mass scaling x{:g}: elastic waves {:.3g} times slower, quasi-static (docs/physics.md)\n",
-        setup_.mass_scaling.factor, setup_.mass_scaling.wave_slowdown());
+  out += setup_.mass_scaling.summary_line("elastic waves");
   if (periodicity_.any())
     out +=
         fmt::format("periodic   along {} (no walls on those faces; guard nodes are images)\n", periodicity_.describe());

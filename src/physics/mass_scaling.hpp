@@ -5,6 +5,9 @@
 // impulse over impulse_step(Δt) and grow their wave-bound steps by
 // wave_slowdown().
 #include <cmath>
+#include <string>
+
+#include <fmt/format.h>
 
 #include "core/types.hpp"
 
@@ -17,6 +20,12 @@ struct MassScaling {
   Real impulse_step(Real dt) const { return dt / factor; }
   // √s: pressure and elastic waves in the inertia s ρ travel √s times slower.
   Real wave_slowdown() const { return std::sqrt(factor); }
+  // The run summary's line (empty at s = 1); `waves`: which waves the solver's step follows.
+  std::string summary_line(const char* waves) const {
+    if (!active()) return {};
+    return fmt::format("inertia    mass scaling x{:g}: {} {:.3g} times slower, quasi-static (docs/physics.md)\n",
+                       factor, waves, wave_slowdown());
+  }
 };
 
 }  // namespace bakesim

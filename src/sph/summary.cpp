@@ -17,11 +17,7 @@ std::string SphSolver::summary() const {
         st.density_tolerance, st.divergence_tolerance, st.pressure_max_iterations);
   else
     out += "pressure   weakly compressible (Tait)\n";
-  if (setup_.mass_scaling.active())
-    out += fmt::format(
-        "inertia    mass scaling x{:g}: pressure and elastic waves {:.3g} times slower, quasi-static "
-        "(docs/physics.md)\n",
-        setup_.mass_scaling.factor, setup_.mass_scaling.wave_slowdown());
+  out += setup_.mass_scaling.summary_line("pressure and elastic waves");
   out += fmt::format("viscosity  {} (setting: {})\n", implicit_viscosity() ? "implicit" : "explicit",
                      to_string(st.viscosity_solver));
   if (elastic_)
