@@ -201,6 +201,8 @@ PoreWater build_pore_water(const Ctx& c, const std::string& path, const json& ma
           path + ".moisture.surface_evaporation",
           "\"supply_limited\" brings the water to the face by liquid diffusion: give moisture.liquid_diffusivity > 0");
   }
+  if (w["expanded_conductivity"].get<std::string>() == "parallel")
+    p.expanded_conductivity = PoreWater::ExpandedConductivity::parallel;
   if (!w["dry_conductivity"].is_null()) p.dry_conductivity = w["dry_conductivity"].get<double>();
   p.latent_heat = w["latent_heat"].get<double>();
   p.air_pressure = oven.air_pressure;

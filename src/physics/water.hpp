@@ -146,6 +146,26 @@ struct PoreWater {
     if (!dry_conductivity || !(moisture > 0)) return 0;
     return dried_fraction(moisture_now) * (*dry_conductivity - conductivity);
   }
+  // How the conductivity follows the dough's expansion (expanded_gas_fraction):
+  // `constant` keeps it (the seeds), `parallel` puts the solid matrix and the
+  // gas side by side, k(φ) = k_m (1 − φ) + k_g φ with k_m from the unexpanded
+  // dough's k at φ₀, so a loaf that doubles its volume conducts through half
+  // the solid (the parallel model Jury, Monteau, Comiti & Le-Bail 2007 fit to
+  // bread's conductivity during baking).
+  enum class ExpandedConductivity { constant, parallel };
+  ExpandedConductivity expanded_conductivity = ExpandedConductivity::constant;
+  // k of the pore gas, W/(m K): air at 300 K (Incropera, Table A.4: 0.0263).
+  static constexpr Real kGasConductivity = 0.0263;
+  // The conductivity change of dough of the material's k that has dried to X
+  // and expanded to gas fraction φ: drying_conductivity_change, then the
+  // expansion law applied to the dried dough's k.
+  Real matrix_conductivity_change(Real conductivity, Real moisture_now, Real phi) const {
+    const Real drying = drying_conductivity_change(conductivity, moisture_now);
+    if (expanded_conductivity == ExpandedConductivity::constant || !(phi > gas_fraction)) return drying;
+    const Real unexpanded = conductivity + drying;
+    const Real matrix = std::max(unexpanded - kGasConductivity * gas_fraction, Real(0)) / (1 - gas_fraction);
+    return matrix * (1 - phi) + kGasConductivity * phi - conductivity;
+  }
   // Share of the particle's water gone, 0 (as mixed) to 1 (dry): the outer
   // part of a surface particle that has dried into crust (physics/heat.hpp,
   // CrustFace). Water that condensed above the initial content counts as 0.

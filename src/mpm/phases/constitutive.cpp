@@ -168,7 +168,7 @@ void MpmSolver::phase_plasticity(Real dt) {
                                                                         dtb)
                                       : 0;
                               cell_k_[i] =
-                                  vapour.cell_conductivity + pw.drying_conductivity_change(mat.conductivity, x);
+                                  vapour.cell_conductivity + pw.matrix_conductivity_change(mat.conductivity, x, phi);
                               vapour_vec_[i] =
                                   -(volume * pw.vapour_conductance(theta, phi) * flux_scale) * grad_vapour_[i];
                             }

@@ -123,10 +123,11 @@ void SphSolver::phase_heat(Real dt, bool& weights_ready) {
             const Material& mi = setup_.materials[material_[i]];
             const PoreWater& pw = mi.moisture;
             particle_k_[i] = mi.conductivity;
-            if (pw.active() && !setup_.bodies[body_[i]].hold_temperature)
-              particle_k_[i] +=
-                  pw.cell_conductivity(temp[i], (*moisture_)[i], pw.expanded_gas_fraction(mi.rest_density / rho_[i])) +
-                  pw.drying_conductivity_change(mi.conductivity, (*moisture_)[i]);
+            if (pw.active() && !setup_.bodies[body_[i]].hold_temperature) {
+              const Real phi = pw.expanded_gas_fraction(mi.rest_density / rho_[i]);
+              particle_k_[i] += pw.cell_conductivity(temp[i], (*moisture_)[i], phi) +
+                                pw.matrix_conductivity_change(mi.conductivity, (*moisture_)[i], phi);
+            }
           },
           4096);
     parallel_for(n, [&](std::size_t i) {
