@@ -61,16 +61,20 @@ std::vector<std::string> apply_material_presets(json& doc, const std::string& fi
   return notes;
 }
 
-// environment.oven: the air coefficient of a kind of oven, where the scene gives none. The
-// midpoints of the ranges in shared/spec/water-and-latent-heat.md (natural convection 10-20,
-// forced 25-40 W/(m² K); Zhang et al. 2005 set up their loaf with 10).
+// environment.oven: the air coefficient of a kind of oven and its walls' radiation, each where
+// the scene gives none. The coefficients are the midpoints of the ranges in
+// shared/spec/water-and-latent-heat.md (natural convection 10-20, forced 25-40 W/(m² K); Zhang
+// et al. 2005 set up their loaf with 10); they are convective, and the walls of every kind of
+// oven stand at about its temperature and radiate besides, to a food surface of emissivity
+// about 0.9 (docs/physics.md, "Oven radiation").
 void apply_oven_preset(json& doc) {
   if (!doc.contains("environment") || !doc["environment"].is_object()) return;
   json& env = doc["environment"];
-  if (!env.contains("oven") || !env["oven"].is_string() || env.contains("heat_transfer_coefficient")) return;
+  if (!env.contains("oven") || !env["oven"].is_string()) return;
   const std::string oven = env["oven"].get<std::string>();
-  if (oven == "conventional" || oven == "deck") env["heat_transfer_coefficient"] = 15.0;
-  if (oven == "fan") env["heat_transfer_coefficient"] = 30.0;  // any other name: the schema refuses it
+  if (oven != "conventional" && oven != "deck" && oven != "fan") return;  // "none"; any other name: the schema
+  if (!env.contains("heat_transfer_coefficient")) env["heat_transfer_coefficient"] = oven == "fan" ? 30.0 : 15.0;
+  if (!env.contains("emissivity")) env["emissivity"] = 0.9;
 }
 
 // Duplicate keys in one object are refused with their key path (nlohmann keeps

@@ -924,6 +924,25 @@ TEST(Scene, OvenPresetsGiveTheAirCoefficient) {
   expect_error(d, {"environment.oven", "conventional"});
 }
 
+// And their walls radiate (issue 22 item 1: "h and, where the oven model has it, wall radiation"): a
+// food surface's emissivity of 0.9 unless the scene gives its own; no preset, no radiation.
+TEST(Scene, OvenPresetsRadiateFromTheirWalls) {
+  auto emissivity = [](const json& doc) { return parse_scene(doc.dump(), "scene.json", ".").oven.emissivity; };
+  json d = base_scene();
+  EXPECT_DOUBLE_EQ(emissivity(d), 0.0);
+  for (const char* oven : {"conventional", "fan", "deck"}) {
+    d["environment"]["oven"] = oven;
+    EXPECT_DOUBLE_EQ(emissivity(d), 0.9) << oven;
+  }
+  d["environment"]["heat_transfer_coefficient"] = 22;  // the scene's own coefficient keeps the walls
+  EXPECT_DOUBLE_EQ(emissivity(d), 0.9);
+  d["environment"]["emissivity"] = 0.0;  // the scene's own emissivity wins: no radiation
+  EXPECT_DOUBLE_EQ(emissivity(d), 0.0);
+  d["environment"]["oven"] = "none";
+  d["environment"].erase("emissivity");
+  EXPECT_DOUBLE_EQ(emissivity(d), 0.0);
+}
+
 // Found under AddressSanitizer (2026-12-02): the copies that "extends", presets and --set make
 // recursed through a value nested 100,000 deep. Such values are refused before they are copied.
 TEST(Scene, DeeplyNestedValuesAreRefusedBeforeTheyAreCopied) {
