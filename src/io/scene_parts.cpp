@@ -201,6 +201,9 @@ PoreWater build_pore_water(const Ctx& c, const std::string& path, const json& ma
           path + ".moisture.surface_evaporation",
           "\"supply_limited\" brings the water to the face by liquid diffusion: give moisture.liquid_diffusivity > 0");
   }
+  if (!w["pore_opening_temperature"].is_null())
+    p.pore_opening_temperature = w["pore_opening_temperature"].get<double>();
+  p.pore_opening_width = w["pore_opening_width"].get<double>();
   if (w["expanded_conductivity"].get<std::string>() == "parallel")
     p.expanded_conductivity = PoreWater::ExpandedConductivity::parallel;
   if (!w["dry_conductivity"].is_null()) p.dry_conductivity = w["dry_conductivity"].get<double>();

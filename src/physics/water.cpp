@@ -169,7 +169,8 @@ Real heat_pipe(const PoreWater& w, Real celsius, Real activity, Real p, Real phi
   const Real tk = std::max(celsius, Real(-50)) + kZeroCelsius;
   const Real dp = slope_of_saturation_pressure(p, celsius);
   const Real drho_sat = kWaterMolarMass / (kGasConstant * tk) * (dp - p / tk);  // d(p M / R T)/dθ
-  return w.cell_heat_pipe * phi * w.latent_heat * w.free_vapour_diffusivity(tk) * activity * drho_sat;
+  return w.cell_heat_pipe * w.closed_cell_share(celsius) * phi * w.latent_heat * w.free_vapour_diffusivity(tk) *
+         activity * drho_sat;
 }
 }  // namespace
 

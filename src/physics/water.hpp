@@ -73,12 +73,25 @@ struct SorptionIsotherm {
 
 // The material's water: the parameters of the law above.
 struct PoreWater {
-  Real moisture = 0;                     // initial X₀, kg/kg dry; 0: no water
-  Real liquid_diffusivity = 0;           // D_w at 100 °C, m²/s; D_w(θ) = D_w θ⁺ / 100 °C
-  Real vapour_diffusivity = 2.6e-5;      // D_v of vapour in the pore gas at 25 °C, m²/s
-  Real tortuosity = 1;                   // τ: the effective D is φ_g D_v (T_K / 298.15)^1.75 / τ
-  Real gas_fraction = 0.6;               // φ_g, volume fraction of gas in the dough
-  Real cell_heat_pipe = 1;               // share of the closed-cell heat pipe (below), 0–1
+  Real moisture = 0;                 // initial X₀, kg/kg dry; 0: no water
+  Real liquid_diffusivity = 0;       // D_w at 100 °C, m²/s; D_w(θ) = D_w θ⁺ / 100 °C
+  Real vapour_diffusivity = 2.6e-5;  // D_v of vapour in the pore gas at 25 °C, m²/s
+  Real tortuosity = 1;               // τ: the effective D is φ_g D_v (T_K / 298.15)^1.75 / τ
+  Real gas_fraction = 0.6;           // φ_g, volume fraction of gas in the dough
+  Real cell_heat_pipe = 1;           // share of the closed-cell heat pipe (below), 0–1
+  // The crumb's cells open as it bakes (a foam becomes a sponge) and the
+  // closed-cell heat pipe stops: its share falls by the opened fraction
+  // 1/2 + atan((θ − θ_open)/w)/π (the pores-opening function of
+  // breadBakingFoam, github.com/techMathGroup/breadBakingFoam, opening at
+  // 75 °C in their set-up of the Zhang loaf). Vapour then moves only through
+  // the pores (vapour_conductance).
+  std::optional<Real> pore_opening_temperature;  // θ_open, °C; none: the cells stay closed
+  Real pore_opening_width = 1.25;                // w, K
+  // Share of the cells still closed at θ: 1 without pore opening.
+  Real closed_cell_share(Real celsius) const {
+    if (!pore_opening_temperature) return 1;
+    return 0.5 - std::atan((celsius - *pore_opening_temperature) / pore_opening_width) / kPi;
+  }
   std::optional<Real> dry_conductivity;  // k of the dried dough (crust), W/(m K); none: the material's
   Real latent_heat = kLatentHeatAt100;   // h_fg, J/kg
   // How water leaves a surface element below the boiling point (surface_flux).

@@ -442,3 +442,26 @@ TEST(Water, RisenDoughConductsThroughLessSolidAsMeasuredOnBreadCrumb) {
   const double dried = k0 + w.matrix_conductivity_change(k0, 0.0, phi);
   EXPECT_NEAR(dried, (0.1 - kg * 0.615) * (1 - phi) / (1 - 0.615) + kg * phi, 1e-15);
 }
+
+// moisture.pore_opening_temperature: the closed-cell heat pipe stops as the
+// crumb's cells open. The share still closed is 1/2 − atan((θ − θ_open)/w)/π:
+// a half at θ_open, 3/4 and 1/4 one width either side (atan 1 = π/4), and the
+// heat pipe scales with it; without an opening temperature nothing changes.
+TEST(Water, TheClosedCellHeatPipeStopsAsTheCrumbsCellsOpen) {
+  PoreWater w;
+  w.moisture = 0.5;
+  w.gas_fraction = 0.6;
+  const double closed = w.cell_conductivity(90.0, 0.5, 0.6);
+  EXPECT_GT(closed, 0.3);
+  EXPECT_EQ(w.closed_cell_share(90.0), 1.0);
+  w.pore_opening_temperature = 75.0;
+  w.pore_opening_width = 10.0;
+  EXPECT_NEAR(w.closed_cell_share(75.0), 0.5, 1e-15);
+  EXPECT_NEAR(w.closed_cell_share(65.0), 0.75, 1e-15);
+  EXPECT_NEAR(w.closed_cell_share(85.0), 0.25, 1e-15);
+  EXPECT_GT(w.closed_cell_share(20.0), 0.94);  // 1/2 + atan(5.5)/π = 0.943
+  EXPECT_NEAR(w.cell_conductivity(90.0, 0.5, 0.6), closed * w.closed_cell_share(90.0), 1e-12 * closed);
+  EXPECT_NEAR(w.pore_vapour(90.0, 0.5, 0.6).cell_conductivity, w.cell_conductivity(90.0, 0.5, 0.6), 1e-15);
+  w.pore_opening_width = 1.25;  // the sharper opening
+  EXPECT_LT(w.closed_cell_share(85.0), 0.04);
+}
