@@ -9,8 +9,8 @@
 // its curve, and the weight lost by 15 minutes is in the measured band.
 // The bands are the targets where the model meets them, this model's
 // (docs/validation.md) where it does not yet: MPM's side probe and weight loss.
-// And scenes/zhang-loaf-rising-sph.json, the SPH loaf rising as the measured
-// one did (V/V0), below.
+// And scenes/zhang-loaf-rising-{mpm,sph}.json, the loaf rising as the
+// measured one did (V/V0), in the bands for every figure, below.
 #include <gtest/gtest.h>
 
 #include <cmath>
