@@ -47,7 +47,13 @@ void BlockOrder::block_index(std::size_t b, std::size_t ijk[3]) const {
 void BlockOrder::colour() {
   const std::size_t blocks = std::size_t(bx_) * by_ * bz_;
   colour_blocks_.resize(8);
-  for (auto& list : colour_blocks_) list.clear();  // keeps their capacity: no allocation per step
+  // Each list holds at most the blocks of its parity, reserved once: a body that grows into new blocks
+  // (a rising loaf) then takes no allocation in a later step.
+  const std::size_t most = std::size_t((bx_ + 1) / 2) * ((by_ + 1) / 2) * ((bz_ + 1) / 2);
+  for (auto& list : colour_blocks_) {
+    list.clear();  // keeps their capacity: no allocation per step
+    list.reserve(most);
+  }
   for (std::size_t b = 0; b < blocks; ++b) {
     if (block_start_[b] == block_start_[b + 1]) continue;
     std::size_t ijk[3];
