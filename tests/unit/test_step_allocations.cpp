@@ -67,7 +67,7 @@ TEST(StepAllocations, NoneOnceWarmWithTheOpenSpaceTest) {
 INSTANTIATE_TEST_SUITE_P(ShippedPreviews, StepAllocations,
                          ::testing::Values("cookie-on-a-tray", "cookie-on-a-tray-sph", "dam-break", "zhang-loaf-sph",
                                            "zhang-loaf-mpm", "dough-pull-twist", "lava-cake", "smore", "bread-roll",
-                                           "volcano", "zhang-loaf-rising-sph", "zhang-loaf-rising-mpm"),
+                                           "volcano", "zhang-loaf-rising-sph", "zhang-loaf-rising-mpm", "bread-loaf"),
                          [](const auto& info) {
                            std::string name = info.param;
                            for (char& c : name)
