@@ -51,18 +51,28 @@ Real saturation_vapour_pressure_slope(Real celsius) {
   return slope_of_saturation_pressure(saturation_vapour_pressure(celsius), celsius);
 }
 
+Real SorptionIsotherm::prefactor(Real celsius) const {
+  return std::exp(oswin_a_slope * (celsius + kZeroCelsius) + oswin_a_offset);
+}
+
+Real SorptionIsotherm::activity_ratio(Real moisture, Real a) const {
+  return moisture > 0 ? std::pow(100.0 * moisture / a, 1.0 / oswin_exponent) : 0;
+}
+
 Real SorptionIsotherm::activity(Real moisture, Real celsius) const {
   if (!(moisture > 0)) return 0;
-  const Real a = std::exp(oswin_a_slope * (celsius + kZeroCelsius) + oswin_a_offset);
-  const Real y = std::pow(100.0 * moisture / a, 1.0 / oswin_exponent);
+  const Real y = activity_ratio(moisture, prefactor(celsius));
   return y / (1 + y);
 }
 
-Real SorptionIsotherm::moisture_at(Real water_activity, Real celsius) const {
+Real SorptionIsotherm::moisture_with_prefactor(Real water_activity, Real a) const {
   if (!(water_activity > 0)) return 0;
   if (!(water_activity < 1)) return std::numeric_limits<Real>::infinity();
-  const Real a = std::exp(oswin_a_slope * (celsius + kZeroCelsius) + oswin_a_offset);
   return a / 100.0 * std::pow(water_activity / (1 - water_activity), oswin_exponent);
+}
+
+Real SorptionIsotherm::moisture_at(Real water_activity, Real celsius) const {
+  return moisture_with_prefactor(water_activity, prefactor(celsius));
 }
 
 namespace {
@@ -203,8 +213,8 @@ Real PoreWater::surface_flux(Real vapour_now, Real celsius, Real moisture_now, R
   const Real resolved_rate = resolved * dry_density * diffusivity / half_depth;
   const Real theta = std::min(celsius, boiling_point);
   const Real saturated = ideal_vapour_density(saturation_vapour_pressure(theta), theta);
-  // The isotherm's a (one exp) once, then a_w = y / (1 + y), y = (X / (a/100))^(1/n) per trial.
-  const Real oswin_a = std::exp(sorption.oswin_a_slope * (theta + kZeroCelsius) + sorption.oswin_a_offset) / 100.0;
+  // The isotherm's a (one exp) once, then a_w = y / (1 + y) per trial (SorptionIsotherm).
+  const Real oswin_a = sorption.prefactor(theta);
   const Real inverse_exponent = 1 / sorption.oswin_exponent;
   // g(X_s) = supply(X_s) − pull(X_s) and its slope: the supply falls and the pull rises with X_s, so g
   // falls from > 0 at X_s = 0 (a dry face pulls nothing) to ≤ 0 at X₀; Newton's method kept inside the
@@ -213,7 +223,7 @@ Real PoreWater::surface_flux(Real vapour_now, Real celsius, Real moisture_now, R
     Real g, slope, pull;
   };
   const auto trial = [&](Real face) {
-    const Real y = face > 0 ? std::pow(face / oswin_a, inverse_exponent) : 0;
+    const Real y = sorption.activity_ratio(face, oswin_a);
     const Real activity = y / (1 + y);
     const Real pull = mass_transfer * (activity * saturated - air_vapour);
     const Real pull_slope =
@@ -235,8 +245,7 @@ Real PoreWater::surface_flux(Real vapour_now, Real celsius, Real moisture_now, R
   Real dry = 0, wet = reference, face = wet;
   const Real dry_supply = trial(0).g - mass_transfer * air_vapour;  // supply(0); pull(0) = −h_m ρ_v,air
   const Real activity = (dry_supply / mass_transfer + air_vapour) / saturated;
-  const Real guess =
-      activity > 0 && activity < 1 ? oswin_a * std::pow(activity / (1 - activity), sorption.oswin_exponent) : reference;
+  const Real guess = sorption.moisture_with_prefactor(activity, oswin_a);  // 0 or ∞ outside (0, 1): kept wet
   if (guess > 0 && guess < wet) face = guess;
   Trial at = trial(face);
   if (face == wet && !(at.g < 0)) return std::max(at.pull, Real(0));

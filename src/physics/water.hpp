@@ -69,6 +69,12 @@ struct SorptionIsotherm {
   Real activity(Real moisture, Real celsius) const;
   // The isotherm inverted: the moisture X in equilibrium with activity a_w at θ.
   Real moisture_at(Real water_activity, Real celsius) const;
+  // The same from parts, for a caller that evaluates the isotherm many times at
+  // one θ (the surface's face solve): a = exp(c₁ T_K + c₂) once, then
+  // y = (100 X / a)^(1/n), a_w = y / (1 + y), and X(a_w) at that a.
+  Real prefactor(Real celsius) const;
+  Real activity_ratio(Real moisture, Real prefactor) const;
+  Real moisture_with_prefactor(Real water_activity, Real prefactor) const;
 };
 
 // The material's water: the parameters of the law above.

@@ -29,10 +29,7 @@ double surface_area_sum(const sph::SphSolver& solver) {
 }
 
 double area_sum(const json& shape, double spacing) {
-  auto solver = test_support::make_sph(body_scene(shape, spacing));
-  double sum = 0;
-  for (double a : solver->particles().scalar("surface_area")) sum += a;
-  return sum;
+  return surface_area_sum(*test_support::make_sph(body_scene(shape, spacing)));
 }
 
 }  // namespace
