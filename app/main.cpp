@@ -110,6 +110,7 @@ int command_validate(const std::string& path, const std::vector<std::string>& se
   Scene scene = load_scene(path, parse_overrides(sets), preview);
   for (const auto& w : scene.warnings) fmt::print(stderr, "bakesim: warning: {}\n", printable(w));
   auto solver = make_solver(scene);
+  for (const auto& w : solver->warnings()) fmt::print(stderr, "bakesim: warning: {}\n", printable(w));
   if (print_resolved) {
     std::cout << scene.resolved.dump(2) << "\n";
     return kExitOk;
@@ -156,6 +157,7 @@ int command_run(const RunArgs& a) {
            scene.fps, out.string());
   for (const auto& w : scene.warnings) L.warn("{}", w);  // echoed to stderr unless --quiet
   auto solver = make_solver(scene);
+  for (const auto& w : solver->warnings()) L.warn("{}", w);
   if (a.resume.empty()) {
     // The directory is claimed only once the scene is known to be good: a bad scene touches nothing.
     RunDirectoryClaim claim = claim_new_run(out, scene.name, a.force);

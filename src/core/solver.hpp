@@ -37,6 +37,9 @@ class Solver {
   // What this solver will simulate, as lines for `bakesim validate` (its
   // resolution, materials, bodies, colliders, time-step bounds).
   virtual std::string summary() const = 0;
+  // What the set-up found doubtful and runs with all the same (a body its
+  // particle lattice fills short), a line each, for the command line to print.
+  virtual std::vector<std::string> warnings() const { return {}; }
   // Solver-specific per-frame numbers for stats.csv (name, value), the same
   // names on every frame.
   virtual std::vector<std::pair<std::string, Real>> frame_quantities() const { return {}; }

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include <fmt/format.h>
+
 #include "core/errors.hpp"
 
 namespace bakesim {
@@ -121,6 +123,44 @@ std::vector<Vec3> sample_lattice(const Shape& s, Real spacing) {
 
 Real volume_estimate(const Shape& s, Real spacing) {
   return Real(sample_lattice(s, spacing).size()) * spacing * spacing * spacing;
+}
+
+Real shape_volume(const Shape& s, Real spacing) {
+  struct Visitor {
+    Real spacing;
+    Real operator()(const BoxShape& b) const { return (b.max - b.min).cwiseMax(0.0).prod(); }
+    Real operator()(const SphereShape& b) const { return 4.0 / 3.0 * kPi * b.radius * b.radius * b.radius; }
+    Real operator()(const CylinderShape& c) const { return kPi * c.radius * c.radius * c.height; }
+    Real operator()(const std::shared_ptr<const MeshShape>& m) const { return std::abs(m->mesh().signed_volume()); }
+    Real operator()(const std::shared_ptr<const ShapeUnion>& u) const { return fine(Shape(u)); }
+    Real operator()(const std::shared_ptr<const ShapeDifference>& d) const { return fine(Shape(d)); }
+    Real fine(const Shape& shape) const { return volume_estimate(shape, 0.25 * spacing); }
+  };
+  return std::visit(Visitor{spacing}, s);
+}
+
+SamplingFill sampling_fill(const Shape& s, const std::vector<Vec3>& points, Real spacing) {
+  SamplingFill fill;
+  fill.shape_extent = bounds(s).extent();
+  if (points.empty()) return {0, Vec3::Zero(), fill.shape_extent};
+  Aabb box = Aabb::empty_box();
+  for (const Vec3& p : points) box.expand(p);
+  fill.sampled_extent = box.extent() + Vec3::Constant(spacing);
+  const Real volume = shape_volume(s, spacing);
+  fill.fraction = volume > 0 ? Real(points.size()) * spacing * spacing * spacing / volume : 1;
+  return fill;
+}
+
+std::string sampling_warning(const std::string& where, const std::string& name, const char* points, std::size_t count,
+                             Real spacing, const SamplingFill& fill) {
+  if (!(std::abs(fill.fraction - 1) > kSamplingFillTolerance)) return "";
+  const Vec3 mm = 1e3 * fill.sampled_extent, shape_mm = 1e3 * fill.shape_extent;
+  return fmt::format(
+      "{}: body '{}' is sampled as {:.1f}% of its volume ({} {} of {:g} mm, each standing for a spacing cubed, so "
+      "its mass too): the lattice spans {:.1f} x {:.1f} x {:.1f} mm of its {:.1f} x {:.1f} x {:.1f} mm; a spacing "
+      "that divides its sizes fills it",
+      where, name, 100 * fill.fraction, count, points, 1e3 * spacing, mm.x(), mm.y(), mm.z(), shape_mm.x(),
+      shape_mm.y(), shape_mm.z());
 }
 
 }  // namespace bakesim

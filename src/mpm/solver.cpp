@@ -154,6 +154,11 @@ void MpmSolver::build_particles() {
       throw InputError(where, fmt::format("body '{}' contains no material points at {} per cell of {} m: make the "
                                           "shape larger or the cell smaller",
                                           body.name, s.particles_per_cell, dx_));
+    body_fill_.push_back(sampling_fill(body.shape, points[b], spacing));
+    if (std::string w =
+            sampling_warning(where, body.name, "material points", points[b].size(), spacing, body_fill_.back());
+        !w.empty())
+      warnings_.push_back(std::move(w));
     // Every sampled point is kept: a body that does not fit is an error, never silently cut.
     const auto outside =
         std::count_if(points[b].begin(), points[b].end(), [&](const Vec3& p) { return !setup_.domain.contains(p); });

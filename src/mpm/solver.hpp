@@ -56,6 +56,7 @@ class MpmSolver final : public Solver {
   std::vector<Real> sample(const Vec3& x, const std::vector<std::string>& quantities) const override;
   bool heats() const override { return thermal(); }
   std::string summary() const override;
+  std::vector<std::string> warnings() const override { return warnings_; }
 
   const Setup& setup() const { return setup_; }
   // Deformation gradient F^E of particle i (columns stored as three vectors).
@@ -135,6 +136,8 @@ class MpmSolver final : public Solver {
   std::array<Real, 2> flip_bounds_{};  // coldest, hottest temperature before the step (G2P)
 
   Setup setup_;
+  std::vector<SamplingFill> body_fill_;  // what each body's lattice holds of its shape
+  std::vector<std::string> warnings_;
   ParticleSet particles_;
   PhaseTimers timers_;
   std::vector<Vec3>& x_;

@@ -20,6 +20,9 @@ std::string MpmSolver::summary() const {
     out +=
         fmt::format("periodic   along {} (no walls on those faces; guard nodes are images)\n", periodicity_.describe());
   out += fmt::format("particles  {} in total, mass {:.4g} kg\n", particles_.size(), total_mass());
+  for (std::size_t b = 0; b < setup_.bodies.size(); ++b)
+    out += fmt::format("  body {:<16} fills {:.1f}% of its shape's volume\n", "'" + setup_.bodies[b].name + "'",
+                       100 * body_fill_.at(b).fraction);
   for (const Material& mat : setup_.materials)
     out += fmt::format("  material {:<12} rho {} kg/m^3, mu {:.4g} Pa, lambda {:.4g} Pa, {}, {}\n", mat.name,
                        mat.density, mat.lame.mu, mat.lame.lambda,

@@ -239,6 +239,10 @@ void SphSolver::seed_particles() {
       throw InputError(b.source, fmt::format("body '{}' contains no particles at spacing {} m: make the shape "
                                              "larger or the spacing smaller",
                                              b.name, s));
+    body_fill_.push_back(sampling_fill(b.shape, points.back(), s));
+    if (std::string w = sampling_warning(b.source, b.name, "particles", points.back().size(), s, body_fill_.back());
+        !w.empty())
+      warnings_.push_back(std::move(w));
     for (const Vec3& p : points.back())
       if (!setup_.domain.contains(p))
         throw InputError(

@@ -93,6 +93,7 @@ class SphSolver final : public Solver {
   const PhaseTimers& timers() const override { return timers_; }
   std::vector<Real> sample(const Vec3& x, const std::vector<std::string>& quantities) const override;
   std::string summary() const override;
+  std::vector<std::string> warnings() const override { return warnings_; }
 
   const Setup& setup() const { return setup_; }
   Real support() const { return h_; }
@@ -414,6 +415,8 @@ class SphSolver final : public Solver {
   // phase, valid until positions change): W(r) and W'(r)/r.
   std::vector<float> pair_w_, pair_dwr_;
   std::vector<std::size_t> body_counts_;
+  std::vector<SamplingFill> body_fill_;  // what each body's lattice holds of its shape
+  std::vector<std::string> warnings_;
 
   PhaseTimers timers_;
   int t_kick_, t_drift_, t_collide_, t_sort_, t_neigh_, t_density_, t_surface_, t_stress_, t_pressure_, t_forces_,

@@ -35,6 +35,7 @@ std::string SphSolver::summary() const {
     out += fmt::format("  body {:<16} {:>9} particles  material {:<10} mass {:.4g} kg each, {:.1f} degC\n",
                        "'" + body.name + "'", body_particle_count(b), setup_.materials[body.material].name,
                        particle_mass(body.material), body.temperature);
+    out += fmt::format("    fills {:.1f}% of its shape's volume\n", 100 * body_fill_.at(b).fraction);
     if (body.bubbles.fraction > 0) {
       std::size_t count = 0;
       for (std::size_t i = 0; i < bubble_.size(); ++i) count += body_[i] == int(b) && bubble_[i];

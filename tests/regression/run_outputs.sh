@@ -37,6 +37,12 @@ check '[ $? -eq 2 ] && grep -q "is a run directory, not a scene file: to go on w
 sed 's/"solver"/"environment": {"air_temperature": 493}, "solver"/' "$ROOT/tests/data/good_small.json" > "$OUT/kelvin.json"
 "$BAKESIM" validate "$OUT/kelvin.json" >/dev/null 2>"$OUT/kelvin.txt"
 check '[ $? -eq 0 ] && grep -q "warning: environment.air_temperature reaches 493 degC: .*493 K would be 220 degC" "$OUT/kelvin.txt"' "an oven at 493 degC is warned about as kelvin or degF"
+# A body its particle lattice fills short is warned about, with what the lattice holds (geometry/shapes.hpp).
+"$BAKESIM" validate "$ROOT/scenes/tin-loaf-sph.json" --set solver.sph.spacing=0.003 2>"$OUT/fill.txt" >"$OUT/fill-summary.txt"
+check '[ $? -eq 0 ] && grep -q "warning: .*bodies\[0\]: body .loaf. is sampled as 94.2% of its volume (17400 particles of 3 mm.*the lattice spans 114.0 x 45.0 x 114.0 mm of its 115.6 x 47.5 x 115.6 mm" "$OUT/fill.txt"' "a loaf sampled at 94% of its volume is warned about"
+check 'grep -q "fills 94.2% of its shape.s volume" "$OUT/fill-summary.txt"' "validate's summary says what each body's lattice fills"
+"$BAKESIM" validate "$ROOT/scenes/tin-loaf-sph.json" 2>"$OUT/fill-shipped.txt" >/dev/null
+check '[ $? -eq 0 ] && ! grep -q "sampled as" "$OUT/fill-shipped.txt"' "the shipped SPH tin loaf fills its tin"
 # --set changes the scene before it is checked and is recorded in the resolved scene (which re-runs as it is).
 "$BAKESIM" run "$ROOT/tests/data/good_small.json" --out "$OUT/set" --end-time 0.01 --quiet --set bodies[0].temperature=5 --set environment.air_temperature=200
 check '[ $? -eq 0 ] && grep -q "\"air_temperature\": 200" "$OUT/set/scene.json" && grep -q -- "--set bodies\[0\].temperature=5" "$OUT/set/log.txt"' "--set recorded in scene.json and log.txt"

@@ -62,6 +62,37 @@ TEST(Shapes, UnionAndDifference) {
   EXPECT_TRUE(contains(sd, Vec3(0.1, 0.1, 0.1)));
 }
 
+// The lattice holds whole spacings: the tin loaf of scenes/tin-loaf-sph.json
+// (radius 57.8 mm, height 47.5 mm) at 3 mm gets 15 layers, 45 mm of its
+// height, and with its narrower circle 94.2% of its volume (the figures below
+// from the lattice's count against πr²h = 4.985e-4 m³); at 47.5/16 mm, 16
+// layers fill it. Exact volumes for the primitives, a finer lattice for a union.
+TEST(Shapes, SamplingFillSaysWhatTheLatticeHoldsOfItsShape) {
+  EXPECT_NEAR(shape_volume(BoxShape{Vec3::Zero(), Vec3(0.1, 0.2, 0.05)}, 0.01), 1e-3, 1e-18);
+  EXPECT_NEAR(shape_volume(SphereShape{Vec3::Zero(), 0.05}, 0.01), 4.0 / 3.0 * kPi * 1.25e-4, 1e-18);
+  const CylinderShape tin{Vec3(0, 0.02375, 0), Vec3(0, 1, 0), 0.0578, 0.0475};
+  EXPECT_NEAR(shape_volume(tin, 0.003), kPi * 0.0578 * 0.0578 * 0.0475, 1e-18);
+  const std::vector<Vec3> coarse = sample_lattice(tin, 0.003);
+  const SamplingFill f = sampling_fill(tin, coarse, 0.003);
+  EXPECT_EQ(coarse.size(), 17400u);
+  EXPECT_NEAR(f.fraction, 17400 * 27e-9 / (kPi * 0.0578 * 0.0578 * 0.0475), 1e-12);
+  EXPECT_NEAR(f.fraction, 0.942, 0.001);
+  EXPECT_NEAR(f.sampled_extent.y(), 0.045, 1e-12);  // 15 layers
+  EXPECT_NEAR(f.shape_extent.y(), 0.0475, 1e-12);
+  const std::string w = sampling_warning("bodies[0]", "loaf", "particles", coarse.size(), 0.003, f);
+  EXPECT_NE(w.find("bodies[0]: body 'loaf' is sampled as 94.2% of its volume"), std::string::npos) << w;
+  EXPECT_NE(w.find("114.0 x 45.0 x 114.0 mm of its 115.6 x 47.5 x 115.6 mm"), std::string::npos) << w;
+  const double fitted = 0.0475 / 16;
+  const SamplingFill g = sampling_fill(tin, sample_lattice(tin, fitted), fitted);
+  EXPECT_NEAR(g.sampled_extent.y(), 0.0475, 1e-12);
+  EXPECT_NEAR(g.fraction, 1, kSamplingFillTolerance);
+  EXPECT_EQ(sampling_warning("bodies[0]", "loaf", "particles", 1, fitted, g), "");
+  // A union of two overlapping boxes: 1.5 boxes' volume, on the finer lattice.
+  auto u = std::make_shared<ShapeUnion>();
+  u->parts = {BoxShape{Vec3::Zero(), Vec3::Ones()}, BoxShape{Vec3(0.5, 0, 0), Vec3(1.5, 1, 1)}};
+  EXPECT_NEAR(shape_volume(std::shared_ptr<const ShapeUnion>(u), 0.1), 1.5, 1e-9);
+}
+
 TEST(Meshes, ObjCubeLoadsAndFillsWithParticles) {
   TriangleMesh m = load_mesh(write_cube_obj().string());
   EXPECT_EQ(m.vertices.size(), 8u);
