@@ -138,6 +138,7 @@ class Simulation {
       lock_ = std::move(claim.lock);
       log_->logger().info("bakesim {} run from Python ({} threads)", BAKESIM_VERSION, threads_);
       for (const auto& w : scene_.warnings) log_->logger().warn("{}", w);
+      for (const auto& w : solver_->warnings()) log_->logger().warn("{}", w);
       log_->logger().info("{} particles; output in {}", solver_->particles().size(), out->string());
       output_ = std::make_unique<RunOutput>(*out, scene_, *solver_, *log_);
     } else {
@@ -471,6 +472,7 @@ PYBIND11_MODULE(_bakesim, m) {
                                return PyScene{std::make_shared<Scene>(s.scene()), s.scene_dir()};
                              })
       .def("max_stable_dt", [](Simulation& s) { return s.solver().max_stable_dt(); })
+      .def_property_readonly("warnings", [](Simulation& s) { return s.solver().warnings(); })
       .def("bake_summary", &Simulation::bake_summary)
       .def("timers", [](Simulation& s) { return s.solver().timers().report(std::max(1L, s.steps())); })
       .def("frame_quantities", [](Simulation& s) { return s.solver().frame_quantities(); })

@@ -184,6 +184,8 @@ class Simulation:
     solver = property(lambda self: self._sim.solver)
     scene = property(lambda self: self._sim.scene)
     directory = property(lambda self: self._sim.directory, doc="the run directory (None without out=)")
+    warnings = property(lambda self: self._sim.warnings,
+                        doc="what the solver's set-up found doubtful (a body its particle lattice fills short)")
 
     @property
     def stats(self):

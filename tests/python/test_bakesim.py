@@ -49,6 +49,17 @@ class Base(unittest.TestCase):
         shutil.rmtree(self.tmp, ignore_errors=True)
 
 
+class SetupWarnings(Base):
+    def test_a_body_sampled_short_of_its_shape_is_warned_about_as_on_the_command_line(self):
+        tin = os.path.join(ROOT, "scenes", "tin-loaf-sph.json")
+        coarse = bakesim.Simulation(bakesim.Scene.load(tin, overrides={"solver.sph.spacing": 0.003}), threads=1)
+        self.assertEqual(len(coarse.warnings), 1)
+        self.assertIn("body 'loaf' is sampled as 94.2% of its volume", coarse.warnings[0])
+        cli = subprocess.run([EXE, "validate", tin, "--set", "solver.sph.spacing=0.003"], capture_output=True, text=True)
+        self.assertIn(coarse.warnings[0], cli.stderr)
+        self.assertEqual(bakesim.Simulation(bakesim.Scene.load(tin), threads=1).warnings, [])
+
+
 class SceneErrors(Base):
     def test_an_override_of_the_wrong_type_names_the_file_and_key_path(self):
         with self.assertRaises(bakesim.InputError) as c:
