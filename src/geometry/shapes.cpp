@@ -151,16 +151,49 @@ SamplingFill sampling_fill(const Shape& s, const std::vector<Vec3>& points, Real
   return fill;
 }
 
+Real fitting_spacing(const Shape& s, Real spacing) {
+  const Vec3 extent = bounds(s).extent();
+  const Real volume = shape_volume(s, spacing);
+  if (!(volume > 0)) return 0;
+  Real best = 0, best_error = 0;
+  for (int axis = 0; axis < 3; ++axis) {
+    const Real layers = std::floor(extent[axis] / spacing + 1e-9);
+    for (const Real n : {layers, layers + 1}) {
+      if (!(n >= 1)) continue;
+      const Real candidate = extent[axis] / n;
+      // Whole layers: a hair under E/n, or floor() in sample_lattice may drop the last one by round-off.
+      const Real fitted = candidate * (1 - 1e-12);
+      const Real fill = Real(sample_lattice(s, fitted).size()) * fitted * fitted * fitted / volume;
+      const Real error = std::abs(fill - 1);
+      if (!(error <= kSamplingFillTolerance)) continue;
+      const Real change = std::abs(fitted - spacing), best_change = std::abs(best - spacing);
+      if (best == 0 || change < best_change - 1e-12 * spacing ||
+          (change <= best_change + 1e-12 * spacing && error < best_error)) {
+        best = fitted;
+        best_error = error;
+      }
+    }
+  }
+  return best;
+}
+
 std::string sampling_warning(const std::string& where, const std::string& name, const char* points, std::size_t count,
-                             Real spacing, const SamplingFill& fill) {
+                             Real spacing, const SamplingFill& fill, const Shape& shape, const SpacingKey& key) {
   if (!(std::abs(fill.fraction - 1) > kSamplingFillTolerance)) return "";
   const Vec3 mm = 1e3 * fill.sampled_extent, shape_mm = 1e3 * fill.shape_extent;
-  return fmt::format(
+  std::string out = fmt::format(
       "{}: body '{}' is sampled as {:.1f}% of its volume ({} {} of {:g} mm, each standing for a spacing cubed, so "
-      "its mass too): the lattice spans {:.1f} x {:.1f} x {:.1f} mm of its {:.1f} x {:.1f} x {:.1f} mm; a spacing "
-      "that divides its sizes fills it",
+      "its mass too): the lattice spans {:.1f} x {:.1f} x {:.1f} mm of its {:.1f} x {:.1f} x {:.1f} mm",
       where, name, 100 * fill.fraction, count, points, 1e3 * spacing, mm.x(), mm.y(), mm.z(), shape_mm.x(),
       shape_mm.y(), shape_mm.z());
+  if (const Real fitted = fitting_spacing(shape, spacing); fitted > 0) {
+    const Real volume = shape_volume(shape, spacing);
+    const Real fill_then = Real(sample_lattice(shape, fitted).size()) * fitted * fitted * fitted / volume;
+    out += fmt::format("; {} {:.6g} would fill {:.1f}%", key.path, fitted * key.per_spacing, 100 * fill_then);
+  } else {
+    out += "; a spacing that divides its sizes fills it";
+  }
+  return out;
 }
 
 }  // namespace bakesim

@@ -74,10 +74,22 @@ struct SamplingFill {
 SamplingFill sampling_fill(const Shape& s, const std::vector<Vec3>& points, Real spacing);
 // Sampled volumes further than this from the shape's are worth a warning.
 inline constexpr Real kSamplingFillTolerance = 0.05;
+// A spacing near `spacing` whose lattice fills the shape within the tolerance:
+// of those that lay whole layers along one of its bounding box's axes (E/n,
+// with n the layers `spacing` fits there or one more) and fill it within the
+// tolerance, the nearest (then the one that fills it best); 0 if none does.
+Real fitting_spacing(const Shape& s, Real spacing);
+// The scene key that sets the lattice's spacing, and the key's value per spacing
+// ("solver.sph.spacing", 1; "solver.mpm.cell_size", the cube root of particles_per_cell).
+struct SpacingKey {
+  const char* path;
+  Real per_spacing;
+};
 // "" when the fill is within kSamplingFillTolerance, else a warning naming the
-// body (`where`, its name) and the `points` ("particles", "material points").
+// body (`where`, its name) and the `points` ("particles", "material points"),
+// with the key's value that would fill it (fitting_spacing) where there is one.
 std::string sampling_warning(const std::string& where, const std::string& name, const char* points, std::size_t count,
-                             Real spacing, const SamplingFill& fill);
+                             Real spacing, const SamplingFill& fill, const Shape& shape, const SpacingKey& key);
 
 // Points of a cubic lattice with the given spacing that lie inside the shape.
 // The lattice starts half a spacing inside the shape's bounding box, so a box

@@ -155,8 +155,8 @@ void MpmSolver::build_particles() {
                                           "shape larger or the cell smaller",
                                           body.name, s.particles_per_cell, dx_));
     body_fill_.push_back(sampling_fill(body.shape, points[b], spacing));
-    if (std::string w =
-            sampling_warning(where, body.name, "material points", points[b].size(), spacing, body_fill_.back());
+    if (std::string w = sampling_warning(where, body.name, "material points", points[b].size(), spacing,
+                                         body_fill_.back(), body.shape, {"solver.mpm.cell_size", dx_ / spacing});
         !w.empty())
       warnings_.push_back(std::move(w));
     // Every sampled point is kept: a body that does not fit is an error, never silently cut.

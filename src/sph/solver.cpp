@@ -240,7 +240,8 @@ void SphSolver::seed_particles() {
                                              "larger or the spacing smaller",
                                              b.name, s));
     body_fill_.push_back(sampling_fill(b.shape, points.back(), s));
-    if (std::string w = sampling_warning(b.source, b.name, "particles", points.back().size(), s, body_fill_.back());
+    if (std::string w = sampling_warning(b.source, b.name, "particles", points.back().size(), s, body_fill_.back(),
+                                         b.shape, {"solver.sph.spacing", 1});
         !w.empty())
       warnings_.push_back(std::move(w));
     for (const Vec3& p : points.back())

@@ -79,14 +79,21 @@ TEST(Shapes, SamplingFillSaysWhatTheLatticeHoldsOfItsShape) {
   EXPECT_NEAR(f.fraction, 0.942, 0.001);
   EXPECT_NEAR(f.sampled_extent.y(), 0.045, 1e-12);  // 15 layers
   EXPECT_NEAR(f.shape_extent.y(), 0.0475, 1e-12);
-  const std::string w = sampling_warning("bodies[0]", "loaf", "particles", coarse.size(), 0.003, f);
+  const std::string w =
+      sampling_warning("bodies[0]", "loaf", "particles", coarse.size(), 0.003, f, tin, {"solver.sph.spacing", 1});
   EXPECT_NE(w.find("bodies[0]: body 'loaf' is sampled as 94.2% of its volume"), std::string::npos) << w;
+  // The nearest spacing that fills it: 16 layers of its height (47.5/16 mm), not 15 of 47.5/15.
+  EXPECT_NEAR(fitting_spacing(tin, 0.003), 0.0475 / 16, 1e-12);
+  EXPECT_NE(w.find("; solver.sph.spacing 0.00296875 would fill 99.4%"), std::string::npos) << w;
+  const std::string w_mpm = sampling_warning("bodies[0]", "loaf", "material points", coarse.size(), 0.003, f, tin,
+                                             {"solver.mpm.cell_size", 2});
+  EXPECT_NE(w_mpm.find("; solver.mpm.cell_size 0.0059375 would fill 99.4%"), std::string::npos) << w_mpm;
   EXPECT_NE(w.find("114.0 x 45.0 x 114.0 mm of its 115.6 x 47.5 x 115.6 mm"), std::string::npos) << w;
   const double fitted = 0.0475 / 16;
   const SamplingFill g = sampling_fill(tin, sample_lattice(tin, fitted), fitted);
   EXPECT_NEAR(g.sampled_extent.y(), 0.0475, 1e-12);
   EXPECT_NEAR(g.fraction, 1, kSamplingFillTolerance);
-  EXPECT_EQ(sampling_warning("bodies[0]", "loaf", "particles", 1, fitted, g), "");
+  EXPECT_EQ(sampling_warning("bodies[0]", "loaf", "particles", 1, fitted, g, tin, {"solver.sph.spacing", 1}), "");
   // A union of two overlapping boxes: 1.5 boxes' volume, on the finer lattice.
   auto u = std::make_shared<ShapeUnion>();
   u->parts = {BoxShape{Vec3::Zero(), Vec3::Ones()}, BoxShape{Vec3(0.5, 0, 0), Vec3(1.5, 1, 1)}};
