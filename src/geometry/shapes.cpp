@@ -1,5 +1,6 @@
 #include "geometry/shapes.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -134,7 +135,11 @@ Real shape_volume(const Shape& s, Real spacing) {
     Real operator()(const std::shared_ptr<const MeshShape>& m) const { return std::abs(m->mesh().signed_volume()); }
     Real operator()(const std::shared_ptr<const ShapeUnion>& u) const { return fine(Shape(u)); }
     Real operator()(const std::shared_ptr<const ShapeDifference>& d) const { return fine(Shape(d)); }
-    Real fine(const Shape& shape) const { return volume_estimate(shape, 0.25 * spacing); }
+    Real fine(const Shape& shape) const {
+      const Real cells = bounds(shape).extent().prod() / (spacing * spacing * spacing);
+      const Real refine = std::clamp(std::cbrt(4e6 / std::max(cells, Real(1))), Real(1), Real(4));
+      return volume_estimate(shape, spacing / refine);
+    }
   };
   return std::visit(Visitor{spacing}, s);
 }
@@ -151,11 +156,11 @@ SamplingFill sampling_fill(const Shape& s, const std::vector<Vec3>& points, Real
   return fill;
 }
 
-Real fitting_spacing(const Shape& s, Real spacing) {
+FittingSpacing fitting_spacing(const Shape& s, Real spacing) {
   const Vec3 extent = bounds(s).extent();
   const Real volume = shape_volume(s, spacing);
-  if (!(volume > 0)) return 0;
-  Real best = 0, best_error = 0;
+  FittingSpacing best;
+  if (!(volume > 0)) return best;
   for (int axis = 0; axis < 3; ++axis) {
     const Real layers = std::floor(extent[axis] / spacing + 1e-9);
     for (const Real n : {layers, layers + 1}) {
@@ -164,14 +169,11 @@ Real fitting_spacing(const Shape& s, Real spacing) {
       // Whole layers: a hair under E/n, or floor() in sample_lattice may drop the last one by round-off.
       const Real fitted = candidate * (1 - 1e-12);
       const Real fill = Real(sample_lattice(s, fitted).size()) * fitted * fitted * fitted / volume;
-      const Real error = std::abs(fill - 1);
-      if (!(error <= kSamplingFillTolerance)) continue;
-      const Real change = std::abs(fitted - spacing), best_change = std::abs(best - spacing);
-      if (best == 0 || change < best_change - 1e-12 * spacing ||
-          (change <= best_change + 1e-12 * spacing && error < best_error)) {
-        best = fitted;
-        best_error = error;
-      }
+      if (!(std::abs(fill - 1) <= kSamplingFillTolerance)) continue;
+      const Real change = std::abs(fitted - spacing), best_change = std::abs(best.spacing - spacing);
+      if (best.spacing == 0 || change < best_change - 1e-12 * spacing ||
+          (change <= best_change + 1e-12 * spacing && std::abs(fill - 1) < std::abs(best.fraction - 1)))
+        best = {fitted, fill};
     }
   }
   return best;
@@ -186,12 +188,13 @@ std::string sampling_warning(const std::string& where, const std::string& name, 
       "its mass too): the lattice spans {:.1f} x {:.1f} x {:.1f} mm of its {:.1f} x {:.1f} x {:.1f} mm",
       where, name, 100 * fill.fraction, count, points, 1e3 * spacing, mm.x(), mm.y(), mm.z(), shape_mm.x(),
       shape_mm.y(), shape_mm.z());
-  if (const Real fitted = fitting_spacing(shape, spacing); fitted > 0) {
-    const Real volume = shape_volume(shape, spacing);
-    const Real fill_then = Real(sample_lattice(shape, fitted).size()) * fitted * fitted * fitted / volume;
-    out += fmt::format("; {} {:.6g} would fill {:.1f}%", key.path, fitted * key.per_spacing, 100 * fill_then);
+  if (const FittingSpacing fitted = fitting_spacing(shape, spacing); fitted.spacing > 0) {
+    out += fmt::format("; {} {:.6g} would fill {:.1f}%", key.path, fitted.spacing * key.per_spacing,
+                       100 * fitted.fraction);
   } else {
-    out += "; a spacing that divides its sizes fills it";
+    out +=
+        "; no spacing a layer from it fills it within 5% (a shell or part a few spacings thin?): a finer one "
+        "comes closer";
   }
   return out;
 }

@@ -59,7 +59,8 @@ Aabb bounds(const Shape& s);
 Real volume_estimate(const Shape& s, Real spacing);
 // The shape's volume, m³: exact for boxes, spheres, cylinders and closed
 // meshes; unions and differences counted on a lattice of a quarter of
-// `spacing` (their parts may overlap).
+// `spacing` (their parts may overlap), coarser where that lattice would pass
+// four million points over their bounding box.
 Real shape_volume(const Shape& s, Real spacing);
 
 // What a lattice sampling (sample_lattice) holds of its shape. The lattice
@@ -77,8 +78,12 @@ inline constexpr Real kSamplingFillTolerance = 0.05;
 // A spacing near `spacing` whose lattice fills the shape within the tolerance:
 // of those that lay whole layers along one of its bounding box's axes (E/n,
 // with n the layers `spacing` fits there or one more) and fill it within the
-// tolerance, the nearest (then the one that fills it best); 0 if none does.
-Real fitting_spacing(const Shape& s, Real spacing);
+// tolerance, the nearest (then the one that fills it best), with its fill;
+// spacing 0 if none does.
+struct FittingSpacing {
+  Real spacing = 0, fraction = 0;
+};
+FittingSpacing fitting_spacing(const Shape& s, Real spacing);
 // The scene key that sets the lattice's spacing, and the key's value per spacing
 // ("solver.sph.spacing", 1; "solver.mpm.cell_size", the cube root of particles_per_cell).
 struct SpacingKey {

@@ -83,7 +83,8 @@ TEST(Shapes, SamplingFillSaysWhatTheLatticeHoldsOfItsShape) {
       sampling_warning("bodies[0]", "loaf", "particles", coarse.size(), 0.003, f, tin, {"solver.sph.spacing", 1});
   EXPECT_NE(w.find("bodies[0]: body 'loaf' is sampled as 94.2% of its volume"), std::string::npos) << w;
   // The nearest spacing that fills it: 16 layers of its height (47.5/16 mm), not 15 of 47.5/15.
-  EXPECT_NEAR(fitting_spacing(tin, 0.003), 0.0475 / 16, 1e-12);
+  EXPECT_NEAR(fitting_spacing(tin, 0.003).spacing, 0.0475 / 16, 1e-12);
+  EXPECT_NEAR(fitting_spacing(tin, 0.003).fraction, 0.994, 0.0005);
   EXPECT_NE(w.find("; solver.sph.spacing 0.00296875 would fill 99.4%"), std::string::npos) << w;
   const std::string w_mpm = sampling_warning("bodies[0]", "loaf", "material points", coarse.size(), 0.003, f, tin,
                                              {"solver.mpm.cell_size", 2});
