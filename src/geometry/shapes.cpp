@@ -165,9 +165,8 @@ FittingSpacing fitting_spacing(const Shape& s, Real spacing) {
     const Real layers = std::floor(extent[axis] / spacing + 1e-9);
     for (const Real n : {layers, layers + 1}) {
       if (!(n >= 1)) continue;
-      const Real candidate = extent[axis] / n;
-      // Whole layers: a hair under E/n, or floor() in sample_lattice may drop the last one by round-off.
-      const Real fitted = candidate * (1 - 1e-12);
+      // Whole layers (sample_lattice's floor() allows for E/(E/n) a hair under n).
+      const Real fitted = extent[axis] / n;
       const Real fill = Real(sample_lattice(s, fitted).size()) * fitted * fitted * fitted / volume;
       if (!(std::abs(fill - 1) <= kSamplingFillTolerance)) continue;
       const Real change = std::abs(fitted - spacing), best_change = std::abs(best.spacing - spacing);

@@ -83,6 +83,9 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::s
 // kPreviewCoarsening, so 8x fewer particles taking about 2x longer steps; at
 // most kPreviewFrames frames; the name NAME-preview (so out/NAME-preview).
 // MPM containers and cups keep their walls two cells thick, which may limit the coarsening.
+// Where the doubled spacing samples a body more than 5% off its shape's volume
+// (a thin cookie loses a layer), the nearest finer spacing that fills the
+// bodies within 5% (geometry/shapes.hpp, fitting_spacing).
 // The physics, the bake clock and the bake's length stay as they are.
 inline constexpr double kPreviewCoarsening = 2.0;
 inline constexpr int kPreviewFrames = 10;

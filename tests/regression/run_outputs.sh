@@ -88,15 +88,17 @@ check '[ $? -eq 0 ] && cmp -s "$OUT/warm/frames/00001.ply" "$OUT/warm-again/fram
 # A preset is named by validate and in the log, with what it gave.
 "$BAKESIM" validate "$ROOT/scenes/cookie-on-a-tray.json" > "$OUT/preset.txt"
 check 'grep -q "^material   .*materials.dough: preset cookie-dough (density [0-9.]* kg/m^3.*divided by the bake clock 1440" "$OUT/preset.txt"' "validate says what the preset gave"
-# --preview: twice the spacing, at most 10 frames, pictures, into out/NAME-preview.
+# --preview: twice the spacing (or the nearest finer one that fills the body within 5%: this
+# 60 mm sphere holds 19 particles of 20 mm, 134% of its volume; 15 mm fill 95.5%), at most
+# 10 frames, pictures, into out/NAME-preview.
 sed 's/"time": {"end": 0.02, "fps": 100}/"name": "small", "time": {"end": 0.04, "fps": 500}/' \
   "$ROOT/tests/data/good_small.json" > "$OUT/small.json"
 (cd "$OUT" && "$BAKESIM" run small.json --preview 2>"$OUT/preview.txt")
 check '[ $? -eq 0 ] && [ -f "$OUT/out/small-preview/scene.json" ]' "--preview runs into out/NAME-preview"
-check 'grep -q "\"spacing\": 0.02," "$OUT/out/small-preview/scene.json" && grep -q "\"fps\": 250" "$OUT/out/small-preview/scene.json"' "the preview doubles the spacing and keeps to 10 frames (scene.json)"
+check 'grep -q "\"spacing\": 0.015," "$OUT/out/small-preview/scene.json" && grep -q "\"fps\": 250" "$OUT/out/small-preview/scene.json"' "the preview coarsens the spacing, keeping the body, and keeps to 10 frames (scene.json)"
 check '[ "$(ls "$OUT"/out/small-preview/frames/*.ply | wc -l)" -eq 11 ]' "the preview writes frames 0..10"
 check '[ -s "$OUT/out/small-preview/render/mesh-browning-00000.png" ] && [ -s "$OUT/out/small-preview/render/mesh-browning-00010.png" ]' "the preview draws the first and the last frame"
-check 'grep -q "render/ (2 pictures, the last mesh-browning-00010.png)" "$OUT/preview.txt" && grep -q "preview: spacing 0.02 m, 250 fps" "$OUT/out/small-preview/log.txt"' "the summary and the log say what the preview did"
+check 'grep -q "render/ (2 pictures, the last mesh-browning-00010.png)" "$OUT/preview.txt" && grep -q "preview: spacing 0.015 m, 250 fps" "$OUT/out/small-preview/log.txt"' "the summary and the log say what the preview did"
 # --end-time overrides the scene and is recorded in the resolved scene.
 "$BAKESIM" run "$ROOT/tests/data/good_small.json" --out "$OUT/short" --end-time 0.01 --quiet
 check 'grep -q "\"end\": 0.01" "$OUT/short/scene.json"' "--end-time recorded in scene.json"

@@ -9,6 +9,7 @@
 #include <fstream>
 
 #include "core/errors.hpp"
+#include "geometry/shapes.hpp"
 #include "io/checkpoint.hpp"
 #include "io/materials.hpp"
 #include "io/run_meshes.hpp"
@@ -49,6 +50,34 @@ void expect_error(const json& doc, const std::vector<std::string>& fragments) {
 }
 
 }  // namespace
+
+// --preview doubles the spacing, but a body a few spacings thick then loses a
+// layer's share of itself: a 60 x 14 x 60 mm slab at 3.5 mm fills 98% of its
+// shape, at 7 mm its 8 layers across span 56 of its 60 mm (87%). The preview
+// takes the nearest finer spacing that fills it within 5%: 60/9 mm (9 layers
+// across, 2 through, 95.2%); a cube the doubled spacing fills keeps it.
+TEST(Scene, PreviewSpacingKeepsAThinBodysVolume) {
+  auto preview_spacing = [](const json& doc) {
+    const Scene s = parse_scene(doc.dump(), "scene.json", ".");
+    for (const SceneOverride& o : preview_overrides(s))
+      if (o.path == "solver.sph.spacing" || o.path == "solver.mpm.cell_size") return o.value.get<double>();
+    return 0.0;
+  };
+  EXPECT_DOUBLE_EQ(preview_spacing(base_scene()), 0.02);  // 60 mm: 3 layers of 20 mm
+  json slab = base_scene();
+  slab["solver"]["sph"]["spacing"] = 0.0035;
+  slab["bodies"][0]["shape"]["max"] = {0.08, 0.034, 0.08};
+  const double s = preview_spacing(slab);
+  EXPECT_NEAR(s, 0.06 / 9, 1e-12);
+  const Shape box = BoxShape{Vec3(0.02, 0.02, 0.02), Vec3(0.08, 0.034, 0.08)};
+  EXPECT_NEAR(sampling_fill(box, sample_lattice(box, 0.007), 0.007).fraction, 0.871, 0.001);
+  EXPECT_NEAR(sampling_fill(box, sample_lattice(box, s), s).fraction, 0.952, 0.001);
+  // MPM: the cell size, the spacing times the cube root of particles_per_cell (8: 2).
+  json mpm = slab;
+  mpm["solver"] = json::parse(R"({"type": "mpm", "mpm": {"cell_size": 0.007}})");
+  mpm["materials"]["water"] = json::parse(R"({"density": 1000, "youngs_modulus": 1e5, "poisson_ratio": 0.3})");
+  EXPECT_NEAR(preview_spacing(mpm), 2 * 0.06 / 9, 1e-12);
+}
 
 TEST(Scene, ValidSceneResolvesEveryDefault) {
   const Scene s = parse_scene(base_scene().dump(), "scene.json", ".");
