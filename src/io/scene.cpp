@@ -505,28 +505,25 @@ namespace {
 
 // A coarser lattice loses more of a thin body (the cookie, 14 mm thick, holds
 // 4 layers of 3 mm: 12 mm, 85% of it): where `spacing` samples a body more
-// than kSamplingFillTolerance off its shape, the nearest spacing that fills
-// the worst of them within it and every body at least as well, up to
-// `largest` (never coarser than the preview's coarsening); else `spacing`.
+// than kSamplingFillTolerance off its shape, the spacing fitting_spacing finds
+// for the worst of them, if it is no coarser than `largest` and samples every
+// body within the tolerance; else `spacing`.
 template <class Bodies>
 double fitted_preview_spacing(const Bodies& bodies, double spacing, double largest) {
-  auto error_at = [&](double s) {
-    double worst = 0;
-    for (const auto& b : bodies)
-      worst = std::max(worst, std::abs(sampling_fill(b.shape, sample_lattice(b.shape, s), s).fraction - 1));
+  // How far the spacing samples its worst body off its shape, and which body that is.
+  auto worst_at = [&](double s) {
+    std::pair<double, std::size_t> worst{0, 0};
+    for (std::size_t i = 0; i < bodies.size(); ++i) {
+      const Shape& shape = bodies[i].shape;
+      worst = std::max(worst, {std::abs(sampling_fill(shape, sample_lattice(shape, s), s).fraction - 1), i});
+    }
     return worst;
   };
-  const double error = error_at(spacing);
+  const auto [error, body] = worst_at(spacing);
   if (!(error > kSamplingFillTolerance)) return spacing;
-  const auto* worst = &bodies.front();
-  double worst_error = -1;
-  for (const auto& b : bodies)
-    if (const double e = std::abs(sampling_fill(b.shape, sample_lattice(b.shape, spacing), spacing).fraction - 1);
-        e > worst_error)
-      worst = &b, worst_error = e;
-  const FittingSpacing fitted = fitting_spacing(worst->shape, spacing);
+  const FittingSpacing fitted = fitting_spacing(bodies[body].shape, spacing);
   if (!(fitted.spacing > 0) || fitted.spacing > largest) return spacing;
-  return error_at(fitted.spacing) <= kSamplingFillTolerance ? fitted.spacing : spacing;
+  return worst_at(fitted.spacing).first <= kSamplingFillTolerance ? fitted.spacing : spacing;
 }
 
 }  // namespace
