@@ -165,8 +165,10 @@ FittingSpacing fitting_spacing(const Shape& s, Real spacing) {
     const Real layers = std::floor(extent[axis] / spacing + 1e-9);
     for (const Real n : {layers, layers + 1}) {
       if (!(n >= 1)) continue;
-      // Whole layers (sample_lattice's floor() allows for E/(E/n) a hair under n).
-      const Real fitted = extent[axis] / n;
+      // E/n to six significant digits, rounded down, so that the value as printed still lays n layers.
+      const Real exact = extent[axis] / n;
+      const Real scale = std::pow(Real(10), Real(5) - std::floor(std::log10(exact)));
+      const Real fitted = std::floor(exact * scale * (1 + 1e-12)) / scale;
       const Real fill = Real(sample_lattice(s, fitted).size()) * fitted * fitted * fitted / volume;
       if (!(std::abs(fill - 1) <= kSamplingFillTolerance)) continue;
       const Real change = std::abs(fitted - spacing), best_change = std::abs(best.spacing - spacing);

@@ -77,9 +77,9 @@ SamplingFill sampling_fill(const Shape& s, const std::vector<Vec3>& points, Real
 inline constexpr Real kSamplingFillTolerance = 0.05;
 // A spacing near `spacing` whose lattice fills the shape within the tolerance:
 // of those that lay whole layers along one of its bounding box's axes (E/n,
-// with n the layers `spacing` fits there or one more) and fill it within the
-// tolerance, the nearest (then the one that fills it best), with its fill;
-// spacing 0 if none does.
+// with n the layers `spacing` fits there or one more, to six significant
+// digits rounded down) and fill it within the tolerance, the nearest (then the
+// one that fills it best), with its fill; spacing 0 if none does.
 struct FittingSpacing {
   Real spacing = 0, fraction = 0;
 };

@@ -192,28 +192,26 @@ INSTANTIATE_TEST_SUITE_P(BothSolvers, ZhangLoafRising, ::testing::Values("mpm", 
 INSTANTIATE_TEST_SUITE_P(BothSolvers, ZhangLoaf, ::testing::Values("mpm", "sph"));
 
 // The tin loaf the breadBakingFoam authors baked and measured
-// (validation-data/breadbakingfoam_own_experiment_1min.csv), scenes/tin-loaf-mpm.json
-// at 8 mm cells (the scene's 4 mm gives the same plateaus, point1 RMS 4.6 degC:
-// docs/validation.md; here 3.7 degC, 17.6% of the water, since the top's water also leaves below the
-// boiling point). The thermocouples are fixed in the tin, so the probes
-// sample at fixed points. The scene bakes at the laboratory's altitude (Prague,
-// 235 m: free water boils at 99.2 degC). Asserted: every probe plateaus between
-// 97 and 100 degC over the last three measured minutes (the band) and
-// never passes 100 (at sea level the moist crumb's bound water held them at
-// 100.1-100.6); the probe under the top crust (point1) follows its measured curve; the water lost
-// is in this model's band (measured 15.1%). Not asserted: the probes near the
-// floor and at mid-height heat 7-11 minutes early against the measurement
-// (docs/validation.md).
-TEST(TinLoaf, ProbesPlateauBelowTheBoilingPointAndTheTopProbeFollowsItsMeasuredCurve) {
-  Scene scene = load_scene(
-      std::string(BAKESIM_SOURCE_DIR) + "/scenes/tin-loaf-mpm.json",
-      {parse_override("solver.mpm.cell_size=0.008"), parse_override("colliders[0].shape.wall_thickness=0.016")});
+// (validation-data/breadbakingfoam_own_experiment_1min.csv), baked from the
+// scene with `overrides`; per thermocouple (point1, point2, point4) the RMS
+// against its measured curve, the plateau (mean over the last three measured
+// minutes) and the hottest reading, and the share of the water lost. The
+// thermocouples are fixed in the tin, so the probes sample at fixed points.
+struct TinLoafRun {
+  struct Probe {
+    double rms, plateau, hottest;
+  } probes[3];
+  double water_lost;
+};
+
+TinLoafRun bake_tin_loaf(const std::string& scene_name, const std::vector<SceneOverride>& overrides) {
+  Scene scene = load_scene(std::string(BAKESIM_SOURCE_DIR) + "/scenes/" + scene_name + ".json", overrides);
   auto solver = make_solver(scene);
   // Measured rows: minute, then (mean, sd) per point 1, 2, 4, then moisture.
   std::vector<std::vector<double>> rows;
   for (const auto& row : measured_rows("breadbakingfoam_own_experiment_1min.csv"))
     if (row.size() == 9 && std::isfinite(row[1])) rows.push_back(row);
-  ASSERT_EQ(rows.size(), 28u);
+  EXPECT_EQ(rows.size(), 28u);
   const Vec3 points[3] = {Vec3(0.013, 0.041, 0), Vec3(0.035, 0.0001, 0), Vec3(0.028, 0.021, 0)};
   std::vector<std::pair<double, double>> model[3];  // (bake minute, degC) per probe
   double water0 = 0;
@@ -228,23 +226,64 @@ TEST(TinLoaf, ProbesPlateauBelowTheBoilingPointAndTheTopProbeFollowsItsMeasuredC
   }
   double water = 0;
   for (double w : solver->particles().scalar("water_mass")) water += w;
-  const double water_lost = 100 * (water0 - water) / water0;
+  TinLoafRun run{};
+  run.water_lost = 100 * (water0 - water) / water0;
   const char* names[3] = {"point1", "point2", "point4"};
   for (int p = 0; p < 3; ++p) {
     double hottest = -1e9, plateau = 0, sum = 0;
     for (const auto& [t, v] : model[p]) hottest = std::max(hottest, v);
     for (std::size_t r = rows.size() - 3; r < rows.size(); ++r) plateau += interpolate(model[p], rows[r][0]) / 3;
     for (const auto& row : rows) sum += std::pow(interpolate(model[p], row[0]) - row[1 + 2 * p], 2);
-    const double rms = std::sqrt(sum / double(rows.size()));
-    std::printf("tin loaf %s: RMS %.1f degC, plateau %.2f degC, hottest %.2f degC\n", names[p], rms, plateau, hottest);
-    EXPECT_GE(plateau, 97.0) << names[p];
-    EXPECT_LE(plateau, 100.0) << names[p];
-    EXPECT_LE(hottest, 100.0) << names[p];
-    if (p == 0) {
-      EXPECT_LE(rms, 8.0) << names[p];
-    }
+    run.probes[p] = {std::sqrt(sum / double(rows.size())), plateau, hottest};
+    std::printf("%s %s: RMS %.1f degC, plateau %.2f degC, hottest %.2f degC\n", scene_name.c_str(), names[p],
+                run.probes[p].rms, plateau, hottest);
   }
-  std::printf("tin loaf: %.1f%% of the water lost (measured 15.1%%)\n", water_lost);
-  EXPECT_GE(water_lost, 10.0);
-  EXPECT_LE(water_lost, 25.0);
+  std::printf("%s: %.1f%% of the water lost (measured 15.1%%)\n", scene_name.c_str(), run.water_lost);
+  return run;
+}
+
+// scenes/tin-loaf-mpm.json at 8 mm cells (the scene's 4 mm gives the same
+// plateaus, point1 RMS 4.6 degC: docs/validation.md; here 3.7 degC, 17.6% of
+// the water, since the top's water also leaves below the boiling point). The
+// scene bakes at the laboratory's altitude (Prague, 235 m: free water boils at
+// 99.2 degC). Asserted: every probe plateaus between 97 and 100 degC over the
+// last three measured minutes (the band) and never passes 100 (at sea
+// level the moist crumb's bound water held them at 100.1-100.6); the probe
+// under the top crust (point1) follows its measured curve; the water lost is in
+// this model's band (measured 15.1%). Not asserted: the probes near the floor
+// and at mid-height heat 7-11 minutes early against the measurement
+// (docs/validation.md).
+TEST(TinLoaf, ProbesPlateauBelowTheBoilingPointAndTheTopProbeFollowsItsMeasuredCurve) {
+  const TinLoafRun run = bake_tin_loaf("tin-loaf-mpm", {parse_override("solver.mpm.cell_size=0.008"),
+                                                        parse_override("colliders[0].shape.wall_thickness=0.016")});
+  const char* names[3] = {"point1", "point2", "point4"};
+  for (int p = 0; p < 3; ++p) {
+    EXPECT_GE(run.probes[p].plateau, 97.0) << names[p];
+    EXPECT_LE(run.probes[p].plateau, 100.0) << names[p];
+    EXPECT_LE(run.probes[p].hottest, 100.0) << names[p];
+  }
+  EXPECT_LE(run.probes[0].rms, 8.0);
+  EXPECT_GE(run.water_lost, 10.0);
+  EXPECT_LE(run.water_lost, 25.0);
+}
+
+// scenes/tin-loaf-sph.json at 47.5/8 mm (8 layers fill the loaf's height,
+// 98.4% of its volume; 5 s on one thread): point1 RMS 4.6 degC, plateaus
+// 99.6 / 99.6 / 99.3 degC, 16.0% of the water. Asserted: the probe under the
+// top crust and the one at mid-height plateau between 97 and 100 degC and
+// never pass 100, point1 follows its measured curve, the water lost is in the
+// band. Not asserted: the floor probe (point2), which at this resolution
+// plateaus at 99.6 degC but at the scene's 47.5/16 mm at 101.6 and at 2 mm at
+// 104.6: the particle layer on the tin dries on its bound water as the
+// resolution resolves it (docs/validation.md, "Filling the tin").
+TEST(TinLoaf, SphTopAndMidHeightProbesPlateauBelowTheBoilingPoint) {
+  const TinLoafRun run = bake_tin_loaf("tin-loaf-sph", {parse_override("solver.sph.spacing=0.0059375")});
+  for (int p : {0, 2}) {
+    EXPECT_GE(run.probes[p].plateau, 97.0) << p;
+    EXPECT_LE(run.probes[p].plateau, 100.0) << p;
+    EXPECT_LE(run.probes[p].hottest, 100.0) << p;
+  }
+  EXPECT_LE(run.probes[0].rms, 8.0);
+  EXPECT_GE(run.water_lost, 10.0);
+  EXPECT_LE(run.water_lost, 25.0);
 }

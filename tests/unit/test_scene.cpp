@@ -68,7 +68,7 @@ TEST(Scene, PreviewSpacingKeepsAThinBodysVolume) {
   slab["solver"]["sph"]["spacing"] = 0.0035;
   slab["bodies"][0]["shape"]["max"] = {0.08, 0.034, 0.08};
   const double s = preview_spacing(slab);
-  EXPECT_NEAR(s, 0.06 / 9, 1e-12);
+  EXPECT_DOUBLE_EQ(s, 0.00666666);  // 60/9 mm to six digits, rounded down
   const Shape box = BoxShape{Vec3(0.02, 0.02, 0.02), Vec3(0.08, 0.034, 0.08)};
   EXPECT_NEAR(sampling_fill(box, sample_lattice(box, 0.007), 0.007).fraction, 0.871, 0.001);
   EXPECT_NEAR(sampling_fill(box, sample_lattice(box, s), s).fraction, 0.952, 0.001);
@@ -76,7 +76,7 @@ TEST(Scene, PreviewSpacingKeepsAThinBodysVolume) {
   json mpm = slab;
   mpm["solver"] = json::parse(R"({"type": "mpm", "mpm": {"cell_size": 0.007}})");
   mpm["materials"]["water"] = json::parse(R"({"density": 1000, "youngs_modulus": 1e5, "poisson_ratio": 0.3})");
-  EXPECT_NEAR(preview_spacing(mpm), 2 * 0.06 / 9, 1e-12);
+  EXPECT_DOUBLE_EQ(preview_spacing(mpm), 2 * 0.00666666);
 }
 
 TEST(Scene, ValidSceneResolvesEveryDefault) {
