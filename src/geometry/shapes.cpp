@@ -144,21 +144,24 @@ Real shape_volume(const Shape& s, Real spacing) {
   return std::visit(Visitor{spacing}, s);
 }
 
-SamplingFill sampling_fill(const Shape& s, const std::vector<Vec3>& points, Real spacing) {
+SamplingFill sampling_fill(const Shape& s, const std::vector<Vec3>& points, Real spacing, Real volume) {
   SamplingFill fill;
+  fill.volume = volume > 0 ? volume : shape_volume(s, spacing);
   fill.shape_extent = bounds(s).extent();
-  if (points.empty()) return {0, Vec3::Zero(), fill.shape_extent};
+  if (points.empty()) {
+    fill.fraction = 0;
+    return fill;
+  }
   Aabb box = Aabb::empty_box();
   for (const Vec3& p : points) box.expand(p);
   fill.sampled_extent = box.extent() + Vec3::Constant(spacing);
-  const Real volume = shape_volume(s, spacing);
-  fill.fraction = volume > 0 ? Real(points.size()) * spacing * spacing * spacing / volume : 1;
+  fill.fraction = fill.volume > 0 ? Real(points.size()) * spacing * spacing * spacing / fill.volume : 1;
   return fill;
 }
 
-FittingSpacing fitting_spacing(const Shape& s, Real spacing) {
+FittingSpacing fitting_spacing(const Shape& s, Real spacing, Real volume) {
   const Vec3 extent = bounds(s).extent();
-  const Real volume = shape_volume(s, spacing);
+  if (!(volume > 0)) volume = shape_volume(s, spacing);
   FittingSpacing best;
   if (!(volume > 0)) return best;
   for (int axis = 0; axis < 3; ++axis) {
@@ -169,7 +172,7 @@ FittingSpacing fitting_spacing(const Shape& s, Real spacing) {
       const Real exact = extent[axis] / n;
       const Real scale = std::pow(Real(10), Real(5) - std::floor(std::log10(exact)));
       const Real fitted = std::floor(exact * scale * (1 + 1e-12)) / scale;
-      const Real fill = Real(sample_lattice(s, fitted).size()) * fitted * fitted * fitted / volume;
+      const Real fill = volume_estimate(s, fitted) / volume;
       if (!(std::abs(fill - 1) <= kSamplingFillTolerance)) continue;
       const Real change = std::abs(fitted - spacing), best_change = std::abs(best.spacing - spacing);
       if (best.spacing == 0 || change < best_change - 1e-12 * spacing ||
@@ -189,7 +192,7 @@ std::string sampling_warning(const std::string& where, const std::string& name, 
       "its mass too): the lattice spans {:.1f} x {:.1f} x {:.1f} mm of its {:.1f} x {:.1f} x {:.1f} mm",
       where, name, 100 * fill.fraction, count, points, 1e3 * spacing, mm.x(), mm.y(), mm.z(), shape_mm.x(),
       shape_mm.y(), shape_mm.z());
-  if (const FittingSpacing fitted = fitting_spacing(shape, spacing); fitted.spacing > 0) {
+  if (const FittingSpacing fitted = fitting_spacing(shape, spacing, fill.volume); fitted.spacing > 0) {
     out += fmt::format("; {} {:.6g} would fill {:.1f}%", key.path, fitted.spacing * key.per_spacing,
                        100 * fitted.fraction);
   } else {

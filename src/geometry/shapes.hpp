@@ -68,11 +68,13 @@ Real shape_volume(const Shape& s, Real spacing);
 // is sampled short along it (a 47.5 mm loaf at 3 mm: 15 layers, 45 mm), and
 // its mass with it, since every particle stands for a spacing³.
 struct SamplingFill {
-  Real fraction = 1;                   // count · spacing³ / shape_volume
+  Real volume = 0;                     // shape_volume, m³
+  Real fraction = 1;                   // count · spacing³ / volume
   Vec3 sampled_extent = Vec3::Zero();  // the points' bounding box grown by a spacing, m
   Vec3 shape_extent = Vec3::Zero();    // the shape's bounding box, m
 };
-SamplingFill sampling_fill(const Shape& s, const std::vector<Vec3>& points, Real spacing);
+// `volume`: the shape's, when the caller has it (0: shape_volume(s, spacing)).
+SamplingFill sampling_fill(const Shape& s, const std::vector<Vec3>& points, Real spacing, Real volume = 0);
 // Sampled volumes further than this from the shape's are worth a warning.
 inline constexpr Real kSamplingFillTolerance = 0.05;
 // A spacing near `spacing` whose lattice fills the shape within the tolerance:
@@ -83,7 +85,7 @@ inline constexpr Real kSamplingFillTolerance = 0.05;
 struct FittingSpacing {
   Real spacing = 0, fraction = 0;
 };
-FittingSpacing fitting_spacing(const Shape& s, Real spacing);
+FittingSpacing fitting_spacing(const Shape& s, Real spacing, Real volume = 0);
 // The scene key that sets the lattice's spacing, and the key's value per spacing
 // ("solver.sph.spacing", 1; "solver.mpm.cell_size", the cube root of particles_per_cell).
 struct SpacingKey {

@@ -510,18 +510,18 @@ namespace {
 // body within the tolerance; else `spacing`.
 template <class Bodies>
 double fitted_preview_spacing(const Bodies& bodies, double spacing, double largest) {
+  std::vector<double> volumes;  // each shape's, once (a union's comes from a fine lattice)
+  for (const auto& b : bodies) volumes.push_back(shape_volume(b.shape, spacing));
   // How far the spacing samples its worst body off its shape, and which body that is.
   auto worst_at = [&](double s) {
     std::pair<double, std::size_t> worst{0, 0};
-    for (std::size_t i = 0; i < bodies.size(); ++i) {
-      const Shape& shape = bodies[i].shape;
-      worst = std::max(worst, {std::abs(sampling_fill(shape, sample_lattice(shape, s), s).fraction - 1), i});
-    }
+    for (std::size_t i = 0; i < bodies.size(); ++i)
+      worst = std::max(worst, {std::abs(volume_estimate(bodies[i].shape, s) / volumes[i] - 1), i});
     return worst;
   };
   const auto [error, body] = worst_at(spacing);
   if (!(error > kSamplingFillTolerance)) return spacing;
-  const FittingSpacing fitted = fitting_spacing(bodies[body].shape, spacing);
+  const FittingSpacing fitted = fitting_spacing(bodies[body].shape, spacing, volumes[body]);
   if (!(fitted.spacing > 0) || fitted.spacing > largest) return spacing;
   return worst_at(fitted.spacing).first <= kSamplingFillTolerance ? fitted.spacing : spacing;
 }
