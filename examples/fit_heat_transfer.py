@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Fits the oven's heat-transfer coefficient h of the Zhang et al. (2005) loaf
-(scenes/zhang-loaf-mpm.json) to a centre-temperature curve with scipy.optimize.
+(scenes/zhang-loaf-unrisen-mpm.json) to a centre-temperature curve with scipy.optimize.
 
     PYTHONPATH=build/python /usr/bin/python3 examples/fit_heat_transfer.py
         fits h to the measured centre temperature (validation-data/zhang2005_centre_temperature.csv)
@@ -23,7 +23,7 @@ from scipy.optimize import minimize_scalar
 import bakesim
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-SCENE = os.path.join(ROOT, "scenes", "zhang-loaf-mpm.json")
+SCENE = os.path.join(ROOT, "scenes", "zhang-loaf-unrisen-mpm.json")
 MEASURED = os.path.join(ROOT, "validation-data", "zhang2005_centre_temperature.csv")
 
 

@@ -43,7 +43,7 @@ check 'seen "core=$last_core °C"' "the final core temperature is the last row o
 check 'grep -q "^done=[0-9.]* min$" "$OUT/seen.txt" && grep -q "^weight=[0-9.]* % of the mass$" "$OUT/seen.txt" && grep -q "^crust-colour=.*browning index" "$OUT/seen.txt" && grep -q "^heat-in=[0-9.]* kJ" "$OUT/seen.txt"' "time to 95 degC, weight loss, crust colour and heat in are shown"
 # A moist bake (the Zhang loaf on 8 mm cells, under a second): its crust thickness and the crust's and
 # crumb's moisture are in the results table, as the last row of stats.csv has them.
-"$BAKESIM" run "$ROOT/scenes/zhang-loaf-mpm.json" --set solver.mpm.cell_size=0.008 --out "$OUT/moist" --quiet --threads 1
+"$BAKESIM" run "$ROOT/scenes/zhang-loaf-unrisen-mpm.json" --set solver.mpm.cell_size=0.008 --out "$OUT/moist" --quiet --threads 1
 "$BAKESIM" report "$OUT/moist" >/dev/null 2>&1
 crust_layer="$(awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next } { t = $col["crust_thickness:loaf"]; c = $col["crust_moisture:loaf"]; m = $col["crumb_moisture:loaf"] } END { printf "%.1f mm (%.2f; %.2f kg/kg)", 1000 * t, c, m }' "$OUT/moist/stats.csv")"
 check 'grep -qF "data-key=\"crust-layer\">$crust_layer<" "$OUT/moist/report.html" && [ "${crust_layer%% *}" != "0.0" ]' "a moist bake's crust is in the results ($crust_layer)"

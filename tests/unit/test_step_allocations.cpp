@@ -61,13 +61,13 @@ TEST_P(StepAllocations, NoneOnceWarm) { expect_none_once_warm(GetParam()); }
 
 // The surface phase's open-space grid (solver.sph.surface.open_space) keeps its buffers too.
 TEST(StepAllocations, NoneOnceWarmWithTheOpenSpaceTest) {
-  expect_none_once_warm("zhang-loaf-sph", {parse_override("solver.sph.surface.open_space=true")});
+  expect_none_once_warm("zhang-loaf-unrisen-sph", {parse_override("solver.sph.surface.open_space=true")});
 }
 
 INSTANTIATE_TEST_SUITE_P(ShippedPreviews, StepAllocations,
-                         ::testing::Values("cookie-on-a-tray", "cookie-on-a-tray-sph", "dam-break", "zhang-loaf-sph",
-                                           "zhang-loaf-mpm", "dough-pull-twist", "lava-cake", "smore", "bread-roll",
-                                           "volcano", "zhang-loaf-rising-sph", "zhang-loaf-rising-mpm", "bread-loaf"),
+                         ::testing::Values("cookie-on-a-tray", "cookie-on-a-tray-sph", "dam-break", "zhang-loaf-unrisen-sph",
+                                           "zhang-loaf-unrisen-mpm", "dough-pull-twist", "lava-cake", "smore", "bread-roll",
+                                           "volcano", "zhang-loaf-sph", "zhang-loaf-mpm", "bread-loaf"),
                          [](const auto& info) {
                            std::string name = info.param;
                            for (char& c : name)
