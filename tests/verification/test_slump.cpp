@@ -49,8 +49,9 @@ json symmetry_plane(const std::string& name, const Vec3& normal) {
           {"contact", "slip"}};
 }
 
-json mpm_slump(int cells_across, double sigma, double viscosity) {
-  const double r = 0.5 * kHeight, dx = kHeight / cells_across;
+// `aspect`: the column's height over its diameter (Pashias's cylinders: 1).
+json mpm_slump(int cells_across, double sigma, double viscosity, double aspect = 1) {
+  const double r = 0.5 * kHeight / aspect, dx = 2 * r / cells_across;
   const double yield_stress = sigma * kDensity * kGravity * kHeight;
   const double w = 3 * r;
   return {
@@ -105,8 +106,8 @@ struct Slump {
 };
 
 Slump run_mpm_slump(int cells_across, double sigma, double viscosity, double duration, double mass_scaling = 1,
-                    long* steps = nullptr) {
-  json scene = mpm_slump(cells_across, sigma, viscosity);
+                    long* steps = nullptr, double aspect = 1) {
+  json scene = mpm_slump(cells_across, sigma, viscosity, aspect);
   scene["solver"]["mass_scaling"] = mass_scaling;
   auto mpm = test_support::make_mpm(scene);
   const double start = top(mpm->particles());
@@ -319,4 +320,36 @@ TEST(StressViscosity, AWallLetsGoOfABodyMovingAway) {
               momentum / momentum0, lowest, bottom_speed / bottom);
   EXPECT_NEAR(momentum / momentum0, 1.0, 1e-6);
   EXPECT_GT(lowest, 0.005 + 1e-4);  // held, the bottom layer stayed at 0.005 m and kept 0.77 of the momentum
+}
+
+// The relation's uniaxial slices (each level's stress vertical, no shear
+// between levels) hold better the more slender the column: Roussel & Coussot
+// (2005) give it as the slump regime's, H >> R. At the same 10 cells across
+// the MPM slump comes to it as the column's height over its diameter grows
+// (measured, docs/validation.md; the disabled study below prints them):
+// sigma' 0.3: +0.065, +0.086, +0.039, +0.013 at H/D 1, 2, 4, 8; sigma' 0.5:
+// +0.051, +0.049, +0.018, +0.0065. So what is left at Pashias's H/D = 1
+// (+0.05 to +0.06 at any resolution) is the relation's, not the solver's.
+TEST(MpmSlump, ASlenderColumnSettlesOnTheRelation) {
+  const Slump squat = run_mpm_slump(10, 0.5, 50.0, 1.5);
+  const Slump slender = run_mpm_slump(10, 0.5, 50.0, 2.5, 1.0, nullptr, 4.0);
+  std::printf("MPM sigma' 0.50, 10 cells across: H/D 1 slump %.4f (%+.4f), H/D 4 slump %.4f (%+.4f), relation %.4f\n",
+              squat.measured, squat.measured - squat.expected, slender.measured, slender.measured - slender.expected,
+              slender.expected);
+  RecordProperty("slump_slender", std::to_string(slender.measured));
+  EXPECT_LT(slender.kinetic_per_mass, 1e-5) << "settled";
+  EXPECT_NEAR(slender.measured, slender.expected, 0.025);  // measured +0.018
+  EXPECT_GT(squat.measured - squat.expected, 2 * std::abs(slender.measured - slender.expected));
+}
+
+// The study behind those figures (about 12 minutes on two threads; run with
+// --gtest_also_run_disabled_tests).
+TEST(MpmSlump, DISABLED_AspectRatioStudy) {
+  for (double sigma : {0.3, 0.5})
+    for (double aspect : {1.0, 2.0, 4.0, 8.0}) {
+      const Slump s = run_mpm_slump(10, sigma, 50.0, 1.5 + 0.5 * aspect, 1.0, nullptr, aspect);
+      std::printf("MPM H/D %.0f, sigma' %.2f: slump %.4f, relation %.4f, difference %+.4f, kinetic %.2e\n", aspect,
+                  sigma, s.measured, s.expected, s.measured - s.expected, s.kinetic_per_mass);
+      std::fflush(stdout);
+    }
 }
