@@ -65,9 +65,10 @@ TEST(StepAllocations, NoneOnceWarmWithTheOpenSpaceTest) {
 }
 
 INSTANTIATE_TEST_SUITE_P(ShippedPreviews, StepAllocations,
-                         ::testing::Values("cookie-on-a-tray", "cookie-on-a-tray-sph", "dam-break", "zhang-loaf-unrisen-sph",
-                                           "zhang-loaf-unrisen-mpm", "dough-pull-twist", "lava-cake", "smore", "bread-roll",
-                                           "volcano", "zhang-loaf-sph", "zhang-loaf-mpm", "bread-loaf"),
+                         ::testing::Values("cookie-on-a-tray", "cookie-on-a-tray-sph", "dam-break",
+                                           "zhang-loaf-unrisen-sph", "zhang-loaf-unrisen-mpm", "dough-pull-twist",
+                                           "lava-cake", "smore", "bread-roll", "volcano", "zhang-loaf-sph",
+                                           "zhang-loaf-mpm", "bread-loaf"),
                          [](const auto& info) {
                            std::string name = info.param;
                            for (char& c : name)
