@@ -323,8 +323,8 @@ TEST(StressViscosity, AWallLetsGoOfABodyMovingAway) {
 }
 
 // The relation's uniaxial slices (each level's stress vertical, no shear
-// between levels) hold better the more slender the column: Roussel & Coussot
-// (2005) give it as the slump regime's, H >> R. At the same 10 cells across
+// between levels) hold better the more slender the column (Roussel & Coussot
+// 2005 separate a slump regime, H >> R, from a spreading one). At the same 10 cells across
 // the MPM slump comes to it as the column's height over its diameter grows
 // (measured, docs/validation.md; the disabled study below prints them):
 // sigma' 0.3: +0.065, +0.086, +0.039, +0.013 at H/D 1, 2, 4, 8; sigma' 0.5:
