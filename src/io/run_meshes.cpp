@@ -14,6 +14,7 @@
 #include "io/run_directory.hpp"
 #include "io/schema.hpp"
 #include "io/scene_parts.hpp"
+#include "mpm/setup.hpp"
 #include "geometry/collider_mesh.hpp"
 
 namespace bakesim {
@@ -26,7 +27,7 @@ RunGeometry run_geometry(const json& scene) {
   g.solver = scene.at("solver").at("type").get<std::string>();
   if (g.solver == "mpm") {
     const json& m = scene.at("solver").at("mpm");
-    g.spacing = m.at("cell_size").get<double>() / std::cbrt(m.at("particles_per_cell").get<double>());
+    g.spacing = m.at("cell_size").get<double>() / mpm::points_per_cell_axis(m.at("particles_per_cell").get<double>());
   } else {
     g.spacing = scene.at("solver").at("sph").at("spacing").get<double>();
   }

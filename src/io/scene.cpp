@@ -544,7 +544,7 @@ std::vector<SceneOverride> preview_overrides(const Scene& scene) {
       if (c["shape"].contains("wall_thickness"))
         factor = std::min(factor, c["shape"]["wall_thickness"].get<double>() / (kMinWallCells * cell));
     if (factor > 1) {
-      const double per_cell = std::cbrt(solver["mpm"]["particles_per_cell"].get<double>());
+      const double per_cell = mpm::points_per_cell_axis(solver["mpm"]["particles_per_cell"].get<double>());
       const double spacing =
           fitted_preview_spacing(scene.mpm.bodies, cell * factor / per_cell, cell * factor / per_cell);
       out.push_back(set("solver.mpm.cell_size", spacing * per_cell));

@@ -161,7 +161,7 @@ mpm::Setup build_mpm_setup(const Ctx& c, const json& doc, const SceneParts& part
            fmt::format("the grid over the domain would have {:.3g} nodes (at most 4e8): make the cells larger or the "
                        "domain smaller",
                        nodes));
-  const Real spacing = st.cell_size / std::cbrt(Real(st.particles_per_cell));
+  const Real spacing = st.cell_size / mpm::points_per_cell_axis(st.particles_per_cell);
   for (const auto& b : setup.bodies) points += lattice_points(b.shape, spacing);
   require_memory(c, "solver.mpm.cell_size", 500.0 * points + 170.0 * nodes,
                  fmt::format("about {:.3g} material points and {:.3g} grid nodes", points, nodes));

@@ -2,6 +2,7 @@
 // What an MPM run is made of: materials (elastic and plastic laws, the
 // mixture's heat, water and gas), bodies, colliders and the solver's
 // settings, as the scene loader builds them (io/scene_mpm.cpp).
+#include <cmath>
 #include <optional>
 #include <string>
 #include <vector>
@@ -41,6 +42,10 @@ struct Body : BodyBase {
 };
 
 enum class HeatMethod { off, explicit_, implicit };
+
+// Material points sampled per cell edge: the initial lattice lays ppc^(1/3)
+// points along each axis of a cell, at a spacing of cell_size / that.
+inline Real points_per_cell_axis(Real particles_per_cell) { return std::cbrt(particles_per_cell); }
 
 struct Settings {
   HeatMethod heat = HeatMethod::off;

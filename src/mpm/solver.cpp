@@ -143,7 +143,7 @@ MpmSolver::MpmSolver(Setup setup)
 
 void MpmSolver::build_particles() {
   const Settings& s = setup_.settings;
-  const Real spacing = dx_ / std::cbrt(Real(s.particles_per_cell));
+  const Real spacing = dx_ / points_per_cell_axis(s.particles_per_cell);
   std::vector<std::vector<Vec3>> points(setup_.bodies.size());
   std::size_t total = 0;
   for (std::size_t b = 0; b < setup_.bodies.size(); ++b) {
