@@ -38,6 +38,12 @@ sph::Material build_material(const Ctx& c, const std::string& name, const json& 
     flow.yield_stress = build_curve(c, path + ".herschel_bulkley.yield_stress", hb["yield_stress"]);
     flow.flow_index = hb["flow_index"].get<double>();
     flow.regularisation = hb["regularisation_rate"].get<double>();
+    flow.elastoviscoplastic = hb["form"].get<std::string>() == "elastoviscoplastic";
+    if (flow.elastoviscoplastic &&
+        std::visit([](const auto& curve) { return curve(-273.15) <= 0 || curve(2000.0) <= 0; }, mat.elasticity))
+      c.fail(path + ".herschel_bulkley.form",
+             "\"elastoviscoplastic\" needs the material's elasticity (mu_e = 2 G, the elastic solid below the yield "
+             "stress) above 0 Pa at every temperature");
     mat.yield_flow = flow;
   }
   return mat;

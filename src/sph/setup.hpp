@@ -40,10 +40,18 @@ struct Material {
   struct YieldFlow {
     TemperatureCurve yield_stress = ConstantCurve{0.0};  // τ_y, Pa (shear)
     Real flow_index = 1.0;                               // n
-    Real regularisation = 1e-3;                          // γ̇_r, 1/s
+    Real regularisation = 1e-3;                          // γ̇_r, 1/s (regularised form)
+    // Saramito's (2007) elastoviscoplastic fluid: the Maxwell stress of the
+    // material's elasticity is elastic below τ_y and returns to τ_y + K γ̇_pⁿ
+    // above it (the Perzyna return MPM uses); μ and λ are then not used.
+    bool elastoviscoplastic = false;
   };
   std::optional<YieldFlow> yield_flow;
 };
+
+// A yield-stress fluid whose viscosity follows its shear rate (the regularised form).
+inline bool regularised_yield_flow(const Material& m) { return m.yield_flow && !m.yield_flow->elastoviscoplastic; }
+inline bool elastoviscoplastic(const Material& m) { return m.yield_flow && m.yield_flow->elastoviscoplastic; }
 
 enum class BubbleDistribution { uniform, centred, layered, region };
 

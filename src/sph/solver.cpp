@@ -132,8 +132,8 @@ SphSolver::SphSolver(Setup setup)
     const Real hs = 0.5 * h_;
     Real nu = 0;
     for (const Material& m : setup_.materials) {
-      Real mu = curve_max(m.viscosity);
-      if (m.yield_flow)  // a yield-stress fluid is most viscous at rest
+      Real mu = m.yield_flow && m.yield_flow->elastoviscoplastic ? 0.0 : curve_max(m.viscosity);
+      if (m.yield_flow && !m.yield_flow->elastoviscoplastic)  // a yield-stress fluid is most viscous at rest
         mu = HerschelBulkley{curve_max(m.yield_flow->yield_stress), mu, m.yield_flow->flow_index,
                              m.yield_flow->regularisation}
                  .viscosity_at_rest();
@@ -194,7 +194,7 @@ SphSolver::SphSolver(Setup setup)
   // Yield-stress materials start with the viscosity of their initial shear
   // rate (at rest: τ_y/γ̇_r), not their consistency: a body at rest holds from the first step.
   for (std::size_t mi = 0; mi < setup_.materials.size(); ++mi)
-    if (setup_.materials[mi].yield_flow) apparent_viscosity(int(mi));
+    if (regularised_yield_flow(setup_.materials[mi])) apparent_viscosity(int(mi));
   check_initial_overlaps();
 }
 
@@ -279,10 +279,13 @@ void SphSolver::seed_particles() {
       rho_[k] = mat.rest_density;
       temperature_[k] = b.temperature;
       surface_temperature_[k] = b.temperature;
-      mu_[k] = evaluate(mat.viscosity, b.temperature);
+      // An elastoviscoplastic material's consistency acts in its plastic
+      // return only, and its stress relaxes only by that flow.
+      const bool evp = mat.yield_flow && mat.yield_flow->elastoviscoplastic;
+      mu_[k] = evp ? 0.0 : evaluate(mat.viscosity, b.temperature);
       eps_[k] = std::clamp(evaluate(mat.xsph, b.temperature), 0.0, 1.0);
       elasticity_[k] = evaluate(mat.elasticity, b.temperature);
-      relaxation_[k] = evaluate(mat.relaxation_time, b.temperature);
+      relaxation_[k] = evp ? std::numeric_limits<Real>::infinity() : evaluate(mat.relaxation_time, b.temperature);
       stress_diag_[k].setZero();
       stress_off_[k].setZero();
       set_density_[k] = mat.rest_density;
@@ -347,6 +350,7 @@ void SphSolver::assign_bubbles() {
 }
 
 void SphSolver::refresh() {
+  correction_fresh_ = false;
   phase_neighbours();
   phase_density();
   phase_surface();
@@ -540,6 +544,7 @@ void SphSolver::step(Real dt) {
   if (!(dt > 0) || !std::isfinite(dt))
     throw SimulationError(fmt::format("SPH step {}: invalid time step {}", steps_, dt));
   update_wall_poses(time_ + dt);
+  correction_fresh_ = false;  // the particles move
   const bool heat_now = heat_due(dt);
   if (divergence_free_) {
     phase_kick(dt);  // symplectic Euler: the forces without pressure, at x(t)

@@ -153,6 +153,13 @@ class SphSolver final : public Solver {
   void advance_heat();
   void phase_stress(Real dt);
   void phase_stress_increment();  // implicit elasticity: w (R + μ_e D') of the solved velocities
+  void plastic_return(Real dt);   // elastoviscoplastic materials: the Maxwell stress back towards τ_y
+  void update_gradient_correction();
+  void
+  add_corrected_stress_divergence();  // phase forces, when corrected_maxwell()  // correction_ and pair_volume_gradient_ of the current positions
+  // The Maxwell stress with the stress-form viscosity: the corrected velocity
+  // gradient for its rate and its divergence as the adjoint of that gradient.
+  bool corrected_maxwell() const { return elastic_ && setup_.settings.stress_viscosity; }
   void phase_pressure();
   void phase_forces();
   void compute_wall_drag();
@@ -399,10 +406,12 @@ class SphSolver final : public Solver {
   // phases): the step's forcing weight w = λ(1 − e^{−dt/λ}), and μ plus the
   // elastic viscosity w μ_e / 2, the viscosity the implicit solve uses.
   std::vector<Real> forcing_weight_, solve_viscosity_;
-  std::vector<Vec3> viscosity_rhs_;            // M v* of the implicit viscosity solve
-  std::vector<Vec3> viscosity_start_;          // v* (the velocities before the solve)
-  PcgScratch<Vec3> viscosity_pcg_;             // its conjugate-gradient vectors
-  std::vector<Mat3> correction_;               // stress-form viscosity: C_i = M_i^{−T}
+  Real last_stress_step_ = 0;          // the step phase_stress took (the implicit return after the solve reads it)
+  std::vector<Vec3> viscosity_rhs_;    // M v* of the implicit viscosity solve
+  std::vector<Vec3> viscosity_start_;  // v* (the velocities before the solve)
+  PcgScratch<Vec3> viscosity_pcg_;     // its conjugate-gradient vectors
+  std::vector<Mat3> correction_;       // stress-form viscosity: C_i = M_i^{−T}
+  bool correction_fresh_ = false;      // correction_ is of the current positions
   std::vector<Mat3> stress_times_correction_;  // S_i C_i of the current iterate
   std::vector<Vec3> pair_volume_gradient_;     // stress form: V_j ∇_i W_ij, layout of lists_
   // Per particle: the normal of the wall it rests on (zero where none) and the wall's speed along it.

@@ -26,7 +26,11 @@ std::string SphSolver::summary() const {
   out += fmt::format("surface    {} test\n", to_string(st.surface_method));
   if (periodic_) out += fmt::format("periodic   along {} (no walls on those faces)\n", periodicity_.describe());
   for (const Material& m : setup_.materials)
-    if (m.yield_flow)
+    if (elastoviscoplastic(m))
+      out += fmt::format(
+          "yield flow material {}: Herschel-Bulkley, n = {}, elastoviscoplastic (elastic below the yield stress)\n",
+          m.name, m.yield_flow->flow_index);
+    else if (m.yield_flow)
       out += fmt::format("yield flow material {}: Herschel-Bulkley, n = {}, regularisation rate {} 1/s\n", m.name,
                          m.yield_flow->flow_index, m.yield_flow->regularisation);
   out += fmt::format("particles  {} in total\n", particles_.size());

@@ -1056,6 +1056,21 @@ TEST(Scene, MpmHerschelBulkleyPlasticityTakesTheSharedLawsNumbers) {
   expect_error(wrong, {"scene.json: materials.dough.plasticity.flow_index", "herschel_bulkley"});
 }
 
+// SPH's elastoviscoplastic yield form reads the material's elasticity as the
+// solid below the yield stress: without one it is an error naming the key.
+TEST(Scene, SphElastoviscoplasticYieldNeedsAnElasticity) {
+  json d = base_scene();
+  d["materials"]["water"]["herschel_bulkley"] = {{"yield_stress", 50.0}, {"form", "elastoviscoplastic"}};
+  expect_error(d, {"scene.json: materials.water.herschel_bulkley.form", "needs the material's elasticity"});
+  d["materials"]["water"]["elasticity"] = 2e4;
+  const Scene s = parse_scene(d.dump(), "scene.json", ".");
+  ASSERT_TRUE(s.sph.materials[0].yield_flow.has_value());
+  EXPECT_TRUE(s.sph.materials[0].yield_flow->elastoviscoplastic);
+  json regularised = base_scene();
+  regularised["materials"]["water"]["herschel_bulkley"] = {{"yield_stress", 50.0}};
+  EXPECT_FALSE(parse_scene(regularised.dump(), "scene.json", ".").sph.materials[0].yield_flow->elastoviscoplastic);
+}
+
 // SPH's stress-form viscosity is implicit: auto picks the implicit solve,
 // explicit is an error naming the key; MPM does not read it.
 TEST(Scene, SphStressViscosityIsImplicit) {

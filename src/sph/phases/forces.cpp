@@ -60,7 +60,8 @@ void SphSolver::phase_forces() {
   if (no_slip) compute_wall_drag();
   const bool elastic = elastic_;
   const Mat3* s_rho2 = elastic ? stress_rho2_.data() : nullptr;
-  const Real visc_c = visc_lap_.coefficient();  // Eq 3.8 (all listed pairs have r < h)
+  const bool symmetric_stress = elastic && !corrected_maxwell();  // else phase_corrected_stress_divergence
+  const Real visc_c = visc_lap_.coefficient();                    // Eq 3.8 (all listed pairs have r < h)
   const Real* hsup = smoothing_.data();
   const bool adaptive = adaptive_;
   const bool periodic = periodic_;
@@ -115,7 +116,7 @@ void SphSolver::phase_forces() {
       }
       // Divergence of the viscoelastic stress (Eq 2.18 in SPH form):
       // Σ m_j (S_i/ρ_i² + S_j/ρ_j²) ∇_i W_ij.
-      if (elastic) acc_s += forces::stress_divergence(m[j], s_rho2[i], s_rho2[j], grad);
+      if (symmetric_stress) acc_s += forces::stress_divergence(m[j], s_rho2[i], s_rho2[j], grad);
       // Artificial stress: m_j f_ij^n (R_i + R_j) ∇_i W_ij, f = W(r)/W(Δp).
       if (art_stress) {
         const Real f = Real(pw[k]) * inv_w_dp * (adaptive ? hij * hij * hij * inv_h3 : 1.0);
@@ -149,6 +150,34 @@ void SphSolver::phase_forces() {
       if (wall_share(xi, &grad_share) > 0) acc -= coef * grad_share;
     }
     a_[i] = acc;
+  });
+  if (corrected_maxwell()) add_corrected_stress_divergence();
+}
+
+// With the stress-form viscosity the Maxwell stress's divergence is the same
+// operator as the viscous stress's (phase viscosity): minus the adjoint of
+// the corrected velocity gradient its rate reads,
+//   a_k += (1/ρ_k) Σ_j V_j (S_k C_k + S_j C_j) ∇_k W_kj,
+// so its work is exactly the stress power Σ V S : D of those gradients and a
+// free surface or a wall's side is traction-free in the same sense for both.
+// The symmetric form Σ m_j (S_i/ρ_i² + S_j/ρ_j²) ∇W pairs with the
+// uncorrected gradient instead; mixed with the corrected one, a body's
+// boundary layers take stress they are not given (docs/physics.md).
+void SphSolver::add_corrected_stress_divergence() {
+  const std::size_t n = x_.size();
+  const std::size_t stride = lists_.stride();
+  update_gradient_correction();
+  stress_times_correction_.resize(n);
+  parallel_for(
+      n, [&](std::size_t i) { stress_times_correction_[i] = stress(i) * correction_[i]; }, 1024);
+  parallel_for(n, [&](std::size_t k) {
+    const std::uint32_t* nb = lists_.begin(k);
+    const std::uint32_t count = lists_.count(k);
+    const Vec3* g = pair_volume_gradient_.data() + k * stride;
+    Vec3 force = Vec3::Zero();
+    for (std::uint32_t q = 0; q < count; ++q)
+      force += (stress_times_correction_[k] + stress_times_correction_[nb[q]]) * g[q];
+    a_[k] += force / rho_[k];
   });
 }
 

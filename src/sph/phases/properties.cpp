@@ -8,31 +8,9 @@
 #include "core/parallel.hpp"
 #include "physics/constants.hpp"
 #include "physics/rheology.hpp"
+#include "sph/curve_temperature.hpp"
 
 namespace bakesim::sph {
-namespace {
-
-// The temperature a material's curves read for particle i: its own, or the
-// peak it reached once set (physics/setting.hpp). A material set from the
-// start (or never) reads one of the two throughout.
-class CurveTemperature {
- public:
-  CurveTemperature(const IrreversibleSetting& set, const std::vector<Real>& temperature, const std::vector<Real>& peak)
-      : set_(set), temperature_(temperature), peak_(peak), always_(set.is_set(-kZeroCelsius)), never_(!set.ever()) {}
-  Real operator()(std::size_t i) const {
-    if (always_) return peak_[i];
-    if (never_) return temperature_[i];
-    return set_.property_temperature(temperature_[i], peak_[i]);
-  }
-
- private:
-  const IrreversibleSetting& set_;
-  const std::vector<Real>& temperature_;
-  const std::vector<Real>& peak_;
-  bool always_, never_;
-};
-
-}  // namespace
 
 // Eq 4.1–4.4: viscosity, elasticity, relaxation time and XSPH tuner follow
 // each particle's temperature, or the peak it reached once it has set
@@ -63,11 +41,12 @@ void SphSolver::phase_properties(bool temperature_changed) {
   for (std::size_t mi = 0; mi < setup_.materials.size(); ++mi) {
     const Material& mat = setup_.materials[mi];
     const int id = static_cast<int>(mi);
-    follow(id, mat.viscosity, mu_, 0.0, inf);
+    const bool evp = mat.yield_flow && mat.yield_flow->elastoviscoplastic;  // μ 0 and λ ∞ throughout
+    if (!evp) follow(id, mat.viscosity, mu_, 0.0, inf);
     follow(id, mat.xsph, eps_, 0.0, 1.0);
     follow(id, mat.elasticity, elasticity_, 0.0, inf);
-    follow(id, mat.relaxation_time, relaxation_, 1e-9, inf);  // λ > 0 (Eq 3.20 divides by it)
-    if (mat.yield_flow) apparent_viscosity(id);
+    if (!evp) follow(id, mat.relaxation_time, relaxation_, 1e-9, inf);  // λ > 0 (Eq 3.20 divides by it)
+    if (regularised_yield_flow(mat)) apparent_viscosity(id);
   }
   // Bubbles start rising once heating begins; a bubble stops when it has
   // expanded max_expansion times, and every particle of the body switches to

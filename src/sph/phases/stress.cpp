@@ -6,6 +6,8 @@
 
 #include "core/parallel.hpp"
 #include "physics/maxwell.hpp"
+#include "physics/rheology.hpp"
+#include "sph/curve_temperature.hpp"
 
 namespace bakesim::sph {
 
@@ -17,16 +19,22 @@ namespace bakesim::sph {
 void SphSolver::phase_stress(Real dt) {
   if (!elastic_) return;
   ScopedPhase t(timers_, t_stress_);
+  const bool corrected = corrected_maxwell();
+  if (corrected) update_gradient_correction();
   if (!implicit_elasticity_) {
     parallel_for(
         x_.size(),
         [&](std::size_t i) {
           if (elasticity_[i] == 0.0 && stress_diag_[i].isZero() && stress_off_[i].isZero()) return;
-          set_stress(i, maxwell_stress_step(stress(i), velocity_gradient(i), elasticity_[i], relaxation_[i], dt));
+          Mat3 l = velocity_gradient(i);
+          if (corrected) l = l * correction_[i].transpose();
+          set_stress(i, maxwell_stress_step(stress(i), l, elasticity_[i], relaxation_[i], dt));
         },
         256);
+    plastic_return(dt);
     return;
   }
+  last_stress_step_ = dt;
   solve_viscosity_.resize(x_.size());
   forcing_weight_.resize(x_.size());
   parallel_for(
@@ -46,14 +54,53 @@ void SphSolver::phase_stress(Real dt) {
 void SphSolver::phase_stress_increment() {
   if (!implicit_elasticity_) return;
   ScopedPhase t(timers_, t_stress_);
+  const bool corrected = corrected_maxwell();  // correction_ is the solve's, of these positions
   parallel_for(
       x_.size(),
       [&](std::size_t i) {
         if (elasticity_[i] == 0.0 && stress_diag_[i].isZero() && stress_off_[i].isZero()) return;
-        set_stress(i, maxwell_forcing_step(stress(i), velocity_gradient(i, volume_.data()), elasticity_[i],
-                                           forcing_weight_[i]));
+        Mat3 l = velocity_gradient(i, volume_.data());
+        if (corrected) l = l * correction_[i].transpose();
+        set_stress(i, maxwell_forcing_step(stress(i), l, elasticity_[i], forcing_weight_[i]));
       },
       256);
+  plastic_return(last_stress_step_);
+}
+
+// Elastoviscoplastic materials (Saramito 2007; material.herschel_bulkley.form):
+// where the updated Maxwell stress's √J₂ = |S|/√2 exceeds τ_y, the Perzyna
+// flow γ̇_p = ((√J₂ − τ_y)/K)^{1/n} acts for the step (backward Euler, the
+// return MPM's herschel_bulkley plasticity takes: HerschelBulkley::
+// relaxed_overstress with the shear modulus G = μ_e/2, since dS/dt = μ_e D'
+// gives a shear stress rate G γ̇), scaling S back along itself. Steady simple
+// shear at γ̇ then carries τ_y + K γ̇ⁿ; below τ_y the stress is elastic.
+void SphSolver::plastic_return(Real dt) {
+  for (std::size_t mi = 0; mi < setup_.materials.size(); ++mi) {
+    const Material& mat = setup_.materials[mi];
+    if (!elastoviscoplastic(mat)) continue;
+    const int id = int(mi);
+    const Material::YieldFlow& flow = *mat.yield_flow;
+    const CurveTemperature at(mat.set, temperature_, peak_temperature_);
+    std::visit(
+        [&](const auto& consistency, const auto& yield) {
+          parallel_for(
+              x_.size(),
+              [&](std::size_t i) {
+                if (material_[i] != id) return;
+                const Mat3 s = stress(i);
+                const Real tau = std::sqrt(0.5 * s.squaredNorm());
+                const Real t = at(i);
+                const HerschelBulkley law{std::max(Real(0), yield(t)), std::max(Real(0), consistency(t)),
+                                          flow.flow_index, flow.regularisation};
+                if (tau <= law.yield_stress) return;
+                const Real returned =
+                    law.yield_stress + law.relaxed_overstress(tau - law.yield_stress, 0.5 * elasticity_[i], dt);
+                set_stress(i, (returned / tau) * s);
+              },
+              1024);
+        },
+        mat.viscosity, flow.yield_stress);
+  }
 }
 
 }  // namespace bakesim::sph

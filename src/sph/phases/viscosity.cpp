@@ -149,30 +149,8 @@ void SphSolver::solve_stress_viscosity(Real dt, const std::vector<Real>& diag) {
   const std::size_t n = x_.size();
   const std::size_t stride = lists_.stride();
   const std::vector<Real>& mu = viscosity_in_solve();
-  correction_.resize(n);
   stress_times_correction_.resize(n);
-  resize_with_headroom(pair_volume_gradient_, n * stride);
-  // V_j ∇_i W_ij per pair, once per solve (both passes of every iteration read
-  // it); C_i = M_i^{−T}, and where the support holds too little to invert M (a
-  // particle nearly alone), the uncorrected gradient.
-  parallel_for(n, [&](std::size_t i) {
-    const std::uint32_t* nb = lists_.begin(i);
-    const std::uint32_t count = lists_.count(i);
-    const float* pd = pair_dwr_.data() + i * stride;
-    Vec3* g = pair_volume_gradient_.data() + i * stride;
-    Mat3 m = Mat3::Zero();
-    for (std::uint32_t k = 0; k < count; ++k) {
-      const std::uint32_t j = nb[k];
-      const Vec3 xij = pair_offset(i, j);
-      g[k] = volume_[j] * (Real(pd[k]) * xij);
-      m -= xij * g[k].transpose();
-    }
-    Mat3 inverse;
-    bool invertible = false;
-    Real det = 0;
-    m.computeInverseAndDetWithCheck(inverse, det, invertible);
-    correction_[i] = invertible && det > 0.05 ? Mat3(inverse.transpose()) : Mat3::Identity();
-  });
+  update_gradient_correction();
   auto apply = [&](const std::vector<Vec3>& in, std::vector<Vec3>& out) {
     parallel_for(n, [&](std::size_t i) {
       const std::uint32_t* nb = lists_.begin(i);
@@ -208,6 +186,37 @@ void SphSolver::solve_stress_viscosity(Real dt, const std::vector<Real>& diag) {
   // 0.05 s, where the cold start keeps 1e-6).
   find_wall_supports();
   solve_supported<true>(apply, diag, b_norm2, "implicit stress-form viscosity");
+}
+
+// V_j ∇_i W_ij per pair and C_i = M_i^{−T}, M_i = Σ_j V_j (x_j − x_i) ⊗ ∇_i W_ij,
+// once per step (the stress phase of an elastic body and the stress-form
+// solve share them: nothing moves between the two). Where the support holds
+// too little to invert M (a particle nearly alone), the uncorrected gradient.
+void SphSolver::update_gradient_correction() {
+  if (correction_fresh_ && correction_.size() == x_.size()) return;
+  correction_fresh_ = true;
+  const std::size_t n = x_.size();
+  const std::size_t stride = lists_.stride();
+  correction_.resize(n);
+  resize_with_headroom(pair_volume_gradient_, n * stride);
+  parallel_for(n, [&](std::size_t i) {
+    const std::uint32_t* nb = lists_.begin(i);
+    const std::uint32_t count = lists_.count(i);
+    const float* pd = pair_dwr_.data() + i * stride;
+    Vec3* g = pair_volume_gradient_.data() + i * stride;
+    Mat3 m = Mat3::Zero();
+    for (std::uint32_t k = 0; k < count; ++k) {
+      const std::uint32_t j = nb[k];
+      const Vec3 xij = pair_offset(i, j);
+      g[k] = (m_[j] / rho_[j]) * (Real(pd[k]) * xij);
+      m -= xij * g[k].transpose();
+    }
+    Mat3 inverse;
+    bool invertible = false;
+    Real det = 0;
+    m.computeInverseAndDetWithCheck(inverse, det, invertible);
+    correction_[i] = invertible && det > 0.05 ? Mat3(inverse.transpose()) : Mat3::Identity();
+  });
 }
 
 // The walls a body rests on hold it inside the viscous solve: a particle
