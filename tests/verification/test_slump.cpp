@@ -429,9 +429,9 @@ TEST(SphSlump, DISABLED_ElastoviscoplasticTwentyAcross) {
 // with the weakly compressible bulk modulus K = ρc² (0.0329 H here). With the
 // corrected gradient and its adjoint it settles and converges to that at first
 // order: 0.54 of it ten across, 0.77 twenty across (2 minutes on 2 threads).
-// With the symmetric form and the uncorrected gradient (the Laplacian
-// operator's) the same column keeps sinking (0.085 H at 1 s, 0.0057 H per
-// 0.2 s).
+// With the Laplacian operator (the symmetric form, the uncorrected gradient
+// and the Laplacian's elastic predictor) the same column keeps sinking
+// (0.085 H at 1 s, 0.0057 H per 0.2 s).
 namespace {
 double elastic_column_sag(int across) {
   json scene = sph_slump(across, 0.0, 20.0, 0.0);
