@@ -49,6 +49,11 @@ struct Material {
   std::optional<YieldFlow> yield_flow;
 };
 
+// The Maxwell relaxation time of an elastoviscoplastic material, whose stress
+// relaxes only by its plastic flow: e^{−Δt/λ} is 1 to the last bit. Finite, as
+// every particle quantity must be (checkpoints refuse the others).
+inline constexpr Real kNeverRelaxes = 1e30;  // s
+
 // A yield-stress fluid whose viscosity follows its shear rate (the regularised form).
 inline bool regularised_yield_flow(const Material& m) { return m.yield_flow && !m.yield_flow->elastoviscoplastic; }
 inline bool elastoviscoplastic(const Material& m) { return m.yield_flow && m.yield_flow->elastoviscoplastic; }

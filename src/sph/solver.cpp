@@ -285,7 +285,7 @@ void SphSolver::seed_particles() {
       mu_[k] = evp ? 0.0 : evaluate(mat.viscosity, b.temperature);
       eps_[k] = std::clamp(evaluate(mat.xsph, b.temperature), 0.0, 1.0);
       elasticity_[k] = evaluate(mat.elasticity, b.temperature);
-      relaxation_[k] = evp ? std::numeric_limits<Real>::infinity() : evaluate(mat.relaxation_time, b.temperature);
+      relaxation_[k] = evp ? kNeverRelaxes : evaluate(mat.relaxation_time, b.temperature);
       stress_diag_[k].setZero();
       stress_off_[k].setZero();
       set_density_[k] = mat.rest_density;

@@ -41,7 +41,7 @@ void SphSolver::phase_properties(bool temperature_changed) {
   for (std::size_t mi = 0; mi < setup_.materials.size(); ++mi) {
     const Material& mat = setup_.materials[mi];
     const int id = static_cast<int>(mi);
-    const bool evp = mat.yield_flow && mat.yield_flow->elastoviscoplastic;  // μ 0 and λ ∞ throughout
+    const bool evp = elastoviscoplastic(mat);  // μ 0 and λ kNeverRelaxes throughout
     if (!evp) follow(id, mat.viscosity, mu_, 0.0, inf);
     follow(id, mat.xsph, eps_, 0.0, 1.0);
     follow(id, mat.elasticity, elasticity_, 0.0, inf);
