@@ -132,8 +132,8 @@ SphSolver::SphSolver(Setup setup)
     const Real hs = 0.5 * h_;
     Real nu = 0;
     for (const Material& m : setup_.materials) {
-      Real mu = m.yield_flow && m.yield_flow->elastoviscoplastic ? 0.0 : curve_max(m.viscosity);
-      if (m.yield_flow && !m.yield_flow->elastoviscoplastic)  // a yield-stress fluid is most viscous at rest
+      Real mu = elastoviscoplastic(m) ? 0.0 : curve_max(m.viscosity);
+      if (regularised_yield_flow(m))  // a yield-stress fluid is most viscous at rest
         mu = HerschelBulkley{curve_max(m.yield_flow->yield_stress), mu, m.yield_flow->flow_index,
                              m.yield_flow->regularisation}
                  .viscosity_at_rest();
@@ -281,7 +281,7 @@ void SphSolver::seed_particles() {
       surface_temperature_[k] = b.temperature;
       // An elastoviscoplastic material's consistency acts in its plastic
       // return only, and its stress relaxes only by that flow.
-      const bool evp = mat.yield_flow && mat.yield_flow->elastoviscoplastic;
+      const bool evp = elastoviscoplastic(mat);
       mu_[k] = evp ? 0.0 : evaluate(mat.viscosity, b.temperature);
       eps_[k] = std::clamp(evaluate(mat.xsph, b.temperature), 0.0, 1.0);
       elasticity_[k] = evaluate(mat.elasticity, b.temperature);

@@ -60,7 +60,7 @@ void SphSolver::phase_forces() {
   if (no_slip) compute_wall_drag();
   const bool elastic = elastic_;
   const Mat3* s_rho2 = elastic ? stress_rho2_.data() : nullptr;
-  const bool symmetric_stress = elastic && !corrected_maxwell();  // else phase_corrected_stress_divergence
+  const bool symmetric_stress = elastic && !corrected_maxwell();  // else add_corrected_stress_divergence
   const Real visc_c = visc_lap_.coefficient();                    // Eq 3.8 (all listed pairs have r < h)
   const Real* hsup = smoothing_.data();
   const bool adaptive = adaptive_;
