@@ -439,6 +439,22 @@ Scene build_scene(json doc, const std::string& file, const std::string& base_dir
     } else {
       sc.sph = build_sph_setup(c, doc, parts);
       for (const auto& b : sc.sph.bodies) sc.bodies.push_back({b.name, b.hold_temperature});
+      // The elastoviscoplastic form holds a body at rest with the settings its
+      // tests use (docs/physics.md, "Elastoviscoplastic form in SPH").
+      for (const auto& m : sc.sph.materials) {
+        if (!sph::elastoviscoplastic(m)) continue;
+        const std::string key = "materials." + m.name + ".herschel_bulkley.form";
+        if (!sc.sph.settings.stress_viscosity)
+          sc.warnings.push_back(key +
+                                ": elastoviscoplastic with solver.sph.viscosity_operator laplacian: the Maxwell stress "
+                                "then takes the uncorrected gradient and Eq 2.18's force, with which an elastic column "
+                                "keeps sinking; set viscosity_operator to stress");
+        if (sc.sph.settings.clamp_negative_pressure)
+          sc.warnings.push_back(key +
+                                ": elastoviscoplastic with solver.sph.negative_pressure clamp: a solid's floor layer "
+                                "carries tension, and clamped it slides out from under the body; set "
+                                "negative_pressure to keep");
+      }
     }
   } catch (const InputError& e) {
     // "The bodies would hold 1e11 particles" is, most often, a size typed in millimetres: say so.

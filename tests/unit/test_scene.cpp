@@ -1098,6 +1098,14 @@ TEST(Scene, SphElastoviscoplasticYieldNeedsAnElasticity) {
   const Scene s = parse_scene(d.dump(), "scene.json", ".");
   ASSERT_TRUE(s.sph.materials[0].yield_flow.has_value());
   EXPECT_TRUE(s.sph.materials[0].yield_flow->elastoviscoplastic);
+  // With the Laplacian operator and clamped negative pressure (the defaults) it warns, naming both keys.
+  const std::vector<std::string> w = parse_scene(d.dump(), "scene.json", ".").warnings;
+  ASSERT_EQ(w.size(), 2u);
+  EXPECT_NE(w[0].find("viscosity_operator to stress"), std::string::npos) << w[0];
+  EXPECT_NE(w[1].find("negative_pressure to keep"), std::string::npos) << w[1];
+  d["solver"]["sph"]["viscosity_operator"] = "stress";
+  d["solver"]["sph"]["negative_pressure"] = "keep";
+  EXPECT_TRUE(parse_scene(d.dump(), "scene.json", ".").warnings.empty());
   json regularised = base_scene();
   regularised["materials"]["water"]["herschel_bulkley"] = {{"yield_stress", 50.0}};
   EXPECT_FALSE(parse_scene(regularised.dump(), "scene.json", ".").sph.materials[0].yield_flow->elastoviscoplastic);
