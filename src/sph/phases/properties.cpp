@@ -77,28 +77,16 @@ void SphSolver::phase_properties(bool temperature_changed) {
 // read. The next step's forces and implicit solve use it (lagged viscosity).
 void SphSolver::apparent_viscosity(int id) {
   const Material& mat = setup_.materials[std::size_t(id)];
-  const Material::YieldFlow& flow = *mat.yield_flow;
   const CurveTemperature at(mat.set, temperature_, peak_temperature_);
   const bool corrected = setup_.settings.stress_viscosity && correction_.size() == x_.size();
-  std::visit(
-      [&](const auto& consistency, const auto& yield) {
-        parallel_for(
-            x_.size(),
-            [&](std::size_t i) {
-              if (material_[i] != id) return;
-              const Real t = at(i);
-              const HerschelBulkley law{std::max(Real(0), yield(t)), std::max(Real(0), consistency(t)), flow.flow_index,
-                                        flow.regularisation};
-              Mat3 l = velocity_gradient(i);
-              // The stress form's corrected gradient (exact for linear fields at a free surface).
-              if (corrected) l = l * correction_[i].transpose();
-              Mat3 d = 0.5 * (l + l.transpose());
-              if (corrected) d -= (d.trace() / 3) * Mat3::Identity();
-              mu_[i] = law.apparent_viscosity(std::sqrt(2.0 * d.squaredNorm()));
-            },
-            1024);
-      },
-      mat.viscosity, flow.yield_stress);
+  for_each_yield_law(mat, id, material_, at, [&](std::size_t i, const HerschelBulkley& law) {
+    Mat3 l = velocity_gradient(i);
+    // The stress form's corrected gradient (exact for linear fields at a free surface).
+    if (corrected) l = l * correction_[i].transpose();
+    Mat3 d = 0.5 * (l + l.transpose());
+    if (corrected) d -= (d.trace() / 3) * Mat3::Identity();
+    mu_[i] = law.apparent_viscosity(std::sqrt(2.0 * d.squaredNorm()));
+  });
 }
 
 // Eq 3.54–3.55: h_i = k_g (ρ_i/ρ_ref)^(−ε_g) h0 for the next step, with

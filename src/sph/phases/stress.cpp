@@ -78,28 +78,14 @@ void SphSolver::plastic_return(Real dt) {
   for (std::size_t mi = 0; mi < setup_.materials.size(); ++mi) {
     const Material& mat = setup_.materials[mi];
     if (!elastoviscoplastic(mat)) continue;
-    const int id = int(mi);
-    const Material::YieldFlow& flow = *mat.yield_flow;
     const CurveTemperature at(mat.set, temperature_, peak_temperature_);
-    std::visit(
-        [&](const auto& consistency, const auto& yield) {
-          parallel_for(
-              x_.size(),
-              [&](std::size_t i) {
-                if (material_[i] != id) return;
-                const Mat3 s = stress(i);
-                const Real tau = std::sqrt(0.5 * s.squaredNorm());
-                const Real t = at(i);
-                const HerschelBulkley law{std::max(Real(0), yield(t)), std::max(Real(0), consistency(t)),
-                                          flow.flow_index, flow.regularisation};
-                if (tau <= law.yield_stress) return;
-                const Real returned =
-                    law.yield_stress + law.relaxed_overstress(tau - law.yield_stress, 0.5 * elasticity_[i], dt);
-                set_stress(i, (returned / tau) * s);
-              },
-              1024);
-        },
-        mat.viscosity, flow.yield_stress);
+    for_each_yield_law(mat, int(mi), material_, at, [&](std::size_t i, const HerschelBulkley& law) {
+      const Mat3 s = stress(i);
+      const Real tau = std::sqrt(0.5 * s.squaredNorm());
+      if (tau <= law.yield_stress) return;
+      const Real returned = law.yield_stress + law.relaxed_overstress(tau - law.yield_stress, 0.5 * elasticity_[i], dt);
+      set_stress(i, (returned / tau) * s);
+    });
   }
 }
 
