@@ -16,6 +16,12 @@ sph::BubbleDistribution parse_distribution(const std::string& s) {
   return sph::BubbleDistribution::uniform;
 }
 
+// A curve above zero at both ends of the temperatures a bake can reach (the
+// curves are piecewise linear or monotone between them).
+bool positive_at_every_temperature(const TemperatureCurve& c) {
+  return std::visit([](const auto& curve) { return curve(-273.15) > 0 && curve(2000.0) > 0; }, c);
+}
+
 sph::Material build_material(const Ctx& c, const std::string& name, const json& m, const Oven& oven) {
   const std::string path = "materials." + name;
   sph::Material mat;
@@ -29,7 +35,7 @@ sph::Material build_material(const Ctx& c, const std::string& name, const json& 
   mat.conductivity = m["conductivity"].get<double>();
   mat.elasticity = build_curve(c, path + ".elasticity", m["elasticity"]);
   mat.relaxation_time = build_curve(c, path + ".relaxation_time", m["relaxation_time"]);
-  if (std::visit([](const auto& curve) { return curve(-273.15) <= 0 || curve(2000.0) <= 0; }, mat.relaxation_time))
+  if (!positive_at_every_temperature(mat.relaxation_time))
     c.fail(path + ".relaxation_time", "must stay above 0 s at every temperature");
   mat.moisture = build_pore_water(c, path, m, oven);
   if (m.contains("herschel_bulkley")) {
@@ -39,8 +45,7 @@ sph::Material build_material(const Ctx& c, const std::string& name, const json& 
     flow.flow_index = hb["flow_index"].get<double>();
     flow.regularisation = hb["regularisation_rate"].get<double>();
     flow.elastoviscoplastic = hb["form"].get<std::string>() == "elastoviscoplastic";
-    if (flow.elastoviscoplastic &&
-        std::visit([](const auto& curve) { return curve(-273.15) <= 0 || curve(2000.0) <= 0; }, mat.elasticity))
+    if (flow.elastoviscoplastic && !positive_at_every_temperature(mat.elasticity))
       c.fail(path + ".herschel_bulkley.form",
              "\"elastoviscoplastic\" needs the material's elasticity (mu_e = 2 G, the elastic solid below the yield "
              "stress) above 0 Pa at every temperature");

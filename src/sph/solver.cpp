@@ -564,7 +564,7 @@ void SphSolver::step(Real dt) {
   if (!divergence_free_) phase_kick(0.5 * dt);
   phase_xsph(dt);
   phase_viscosity(dt);
-  phase_stress_increment();
+  phase_stress_increment(dt);
   if (heat_now) advance_heat();
   phase_properties(heat_now);
   phase_smoothing();

@@ -130,6 +130,12 @@ class SphSolver final : public Solver {
   Mat3 velocity_gradient(std::size_t i) const;
   // The same with the volumes m/ρ of this step given (the pressure phase's volume_), or nullptr.
   Mat3 velocity_gradient(std::size_t i, const Real* volume) const;
+  // The same times C_iᵀ where `corrected` (the stress form's gradient, exact
+  // for linear fields where a surface cuts the support; correction_ current).
+  Mat3 velocity_gradient(std::size_t i, const Real* volume, bool corrected) const {
+    const Mat3 l = velocity_gradient(i, volume);
+    return corrected ? Mat3(l * correction_[i].transpose()) : l;
+  }
   std::size_t body_particle_count(std::size_t body) const { return body_counts_.at(body); }
 
   // Recomputes neighbours, density, pressure and accelerations for the current
@@ -152,8 +158,8 @@ class SphSolver final : public Solver {
   // Heat, water and browning over the pending time (in substeps within the thermal bound).
   void advance_heat();
   void phase_stress(Real dt);
-  void phase_stress_increment();  // implicit elasticity: w (R + μ_e D') of the solved velocities
-  void plastic_return(Real dt);   // elastoviscoplastic materials: the Maxwell stress back towards τ_y
+  void phase_stress_increment(Real dt);  // implicit elasticity: w (R + μ_e D') of the solved velocities
+  void plastic_return(Real dt);          // elastoviscoplastic materials: the Maxwell stress back towards τ_y
   void update_gradient_correction();
   void
   add_corrected_stress_divergence();  // phase forces, when corrected_maxwell()  // correction_ and pair_volume_gradient_ of the current positions
@@ -406,12 +412,11 @@ class SphSolver final : public Solver {
   // phases): the step's forcing weight w = λ(1 − e^{−dt/λ}), and μ plus the
   // elastic viscosity w μ_e / 2, the viscosity the implicit solve uses.
   std::vector<Real> forcing_weight_, solve_viscosity_;
-  Real last_stress_step_ = 0;          // the step phase_stress took (the implicit return after the solve reads it)
-  std::vector<Vec3> viscosity_rhs_;    // M v* of the implicit viscosity solve
-  std::vector<Vec3> viscosity_start_;  // v* (the velocities before the solve)
-  PcgScratch<Vec3> viscosity_pcg_;     // its conjugate-gradient vectors
-  std::vector<Mat3> correction_;       // stress-form viscosity: C_i = M_i^{−T}
-  bool correction_fresh_ = false;      // correction_ is of the current positions
+  std::vector<Vec3> viscosity_rhs_;            // M v* of the implicit viscosity solve
+  std::vector<Vec3> viscosity_start_;          // v* (the velocities before the solve)
+  PcgScratch<Vec3> viscosity_pcg_;             // its conjugate-gradient vectors
+  std::vector<Mat3> correction_;               // stress-form viscosity: C_i = M_i^{−T}
+  bool correction_fresh_ = false;              // correction_ is of the current positions
   std::vector<Mat3> stress_times_correction_;  // S_i C_i of the current iterate
   std::vector<Vec3> pair_volume_gradient_;     // stress form: V_j ∇_i W_ij, layout of lists_
   // Per particle: the normal of the wall it rests on (zero where none) and the wall's speed along it.

@@ -460,18 +460,28 @@ TEST(Scene, CraftedSizesAndNamesAreRefusedBeforeAnythingIsAllocated) {
 // water, a hot tin, the open-space surface test whose grid is kept from one
 // neighbour search to the next) stopped after 20 steps and restored into a
 // fresh solver ends 40 steps later where the uninterrupted run does.
+namespace {
+// The scene run `before` steps, checkpointed, then `after` more; and a fresh
+// solver restored from that checkpoint (through its encoding) run `after` steps.
+struct WholeAndResumed {
+  std::unique_ptr<Solver> whole, resumed;
+};
+WholeAndResumed run_whole_and_resumed(const Scene& scene, int before, int after) {
+  WholeAndResumed r{make_solver(scene), make_solver(scene)};
+  for (int k = 0; k < before; ++k) r.whole->step(r.whole->max_stable_dt());
+  const Checkpoint half = capture_checkpoint(*r.whole);
+  for (int k = 0; k < after; ++k) r.whole->step(r.whole->max_stable_dt());
+  restore_checkpoint(*r.resumed, decode_checkpoint(encode_checkpoint(half), "half.ckpt"), "half.ckpt");
+  for (int k = 0; k < after; ++k) r.resumed->step(r.resumed->max_stable_dt());
+  return r;
+}
+}  // namespace
+
 TEST(Checkpoint, ARestoredSphBakeContinuesBitForBit) {
   std::string path = BAKESIM_SOURCE_DIR;
   path += "/scenes/bread-roll.json";
-  const Scene scene = load_scene(path, {}, true);
-  auto whole = make_solver(scene);
-  for (int k = 0; k < 20; ++k) whole->step(whole->max_stable_dt());
-  const Checkpoint half = capture_checkpoint(*whole);
-  for (int k = 0; k < 40; ++k) whole->step(whole->max_stable_dt());
-  auto resumed = make_solver(scene);
-  restore_checkpoint(*resumed, decode_checkpoint(encode_checkpoint(half), "half.ckpt"), "half.ckpt");
-  for (int k = 0; k < 40; ++k) resumed->step(resumed->max_stable_dt());
-  const ParticleSet &a = whole->particles(), &b = resumed->particles();
+  const WholeAndResumed run = run_whole_and_resumed(load_scene(path, {}, true), 20, 40);
+  const ParticleSet &a = run.whole->particles(), &b = run.resumed->particles();
   ASSERT_EQ(a.size(), b.size());
   std::size_t differ = 0;
   for (std::size_t i = 0; i < a.size(); ++i)
@@ -492,15 +502,8 @@ TEST(Checkpoint, AnElastoviscoplasticSphBodyResumesBitForBit) {
   doc["materials"]["water"]["elasticity"] = 2e4;
   doc["materials"]["water"]["viscosity"] = 10.0;
   doc["materials"]["water"]["herschel_bulkley"] = {{"yield_stress", 30.0}, {"form", "elastoviscoplastic"}};
-  const Scene scene = parse_scene(doc.dump(), "scene.json", ".");
-  auto whole = make_solver(scene);
-  for (int k = 0; k < 30; ++k) whole->step(whole->max_stable_dt());
-  const Checkpoint half = capture_checkpoint(*whole);
-  for (int k = 0; k < 30; ++k) whole->step(whole->max_stable_dt());
-  auto resumed = make_solver(scene);
-  restore_checkpoint(*resumed, decode_checkpoint(encode_checkpoint(half), "half.ckpt"), "half.ckpt");
-  for (int k = 0; k < 30; ++k) resumed->step(resumed->max_stable_dt());
-  const ParticleSet &a = whole->particles(), &b = resumed->particles();
+  const WholeAndResumed run = run_whole_and_resumed(parse_scene(doc.dump(), "scene.json", "."), 30, 30);
+  const ParticleSet &a = run.whole->particles(), &b = run.resumed->particles();
   ASSERT_EQ(a.size(), b.size());
   std::size_t differ = 0, stressed = 0;
   for (std::size_t i = 0; i < a.size(); ++i) {

@@ -80,9 +80,7 @@ void SphSolver::apparent_viscosity(int id) {
   const CurveTemperature at(mat.set, temperature_, peak_temperature_);
   const bool corrected = setup_.settings.stress_viscosity && correction_.size() == x_.size();
   for_each_yield_law(mat, id, material_, at, [&](std::size_t i, const HerschelBulkley& law) {
-    Mat3 l = velocity_gradient(i);
-    // The stress form's corrected gradient (exact for linear fields at a free surface).
-    if (corrected) l = l * correction_[i].transpose();
+    const Mat3 l = velocity_gradient(i, nullptr, corrected);
     Mat3 d = 0.5 * (l + l.transpose());
     if (corrected) d -= (d.trace() / 3) * Mat3::Identity();
     mu_[i] = law.apparent_viscosity(std::sqrt(2.0 * d.squaredNorm()));

@@ -26,15 +26,13 @@ void SphSolver::phase_stress(Real dt) {
         x_.size(),
         [&](std::size_t i) {
           if (elasticity_[i] == 0.0 && stress_diag_[i].isZero() && stress_off_[i].isZero()) return;
-          Mat3 l = velocity_gradient(i);
-          if (corrected) l = l * correction_[i].transpose();
-          set_stress(i, maxwell_stress_step(stress(i), l, elasticity_[i], relaxation_[i], dt));
+          set_stress(i, maxwell_stress_step(stress(i), velocity_gradient(i, nullptr, corrected), elasticity_[i],
+                                            relaxation_[i], dt));
         },
         256);
     plastic_return(dt);
     return;
   }
-  last_stress_step_ = dt;
   solve_viscosity_.resize(x_.size());
   forcing_weight_.resize(x_.size());
   parallel_for(
@@ -51,7 +49,7 @@ void SphSolver::phase_stress(Real dt) {
 }
 
 // The densities have not changed since the pressure phase: its volumes m/ρ serve.
-void SphSolver::phase_stress_increment() {
+void SphSolver::phase_stress_increment(Real dt) {
   if (!implicit_elasticity_) return;
   ScopedPhase t(timers_, t_stress_);
   const bool corrected = corrected_maxwell();  // correction_ is the solve's, of these positions
@@ -59,12 +57,11 @@ void SphSolver::phase_stress_increment() {
       x_.size(),
       [&](std::size_t i) {
         if (elasticity_[i] == 0.0 && stress_diag_[i].isZero() && stress_off_[i].isZero()) return;
-        Mat3 l = velocity_gradient(i, volume_.data());
-        if (corrected) l = l * correction_[i].transpose();
-        set_stress(i, maxwell_forcing_step(stress(i), l, elasticity_[i], forcing_weight_[i]));
+        set_stress(i, maxwell_forcing_step(stress(i), velocity_gradient(i, volume_.data(), corrected), elasticity_[i],
+                                           forcing_weight_[i]));
       },
       256);
-  plastic_return(last_stress_step_);
+  plastic_return(dt);
 }
 
 // Elastoviscoplastic materials (Saramito 2007; material.herschel_bulkley.form):
