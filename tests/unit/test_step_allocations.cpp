@@ -64,6 +64,13 @@ TEST(StepAllocations, NoneOnceWarmWithTheOpenSpaceTest) {
   expect_none_once_warm("zhang-loaf-unrisen-sph", {parse_override("solver.sph.surface.open_space=true")});
 }
 
+// The stress-form operator with an elastic dough: the gradient correction
+// shared by the stress phase, the forces and the solve, and the Maxwell
+// stress's corrected divergence keep their buffers too.
+TEST(StepAllocations, NoneOnceWarmWithTheStressFormAndElasticity) {
+  expect_none_once_warm("bread-roll", {parse_override("solver.sph.viscosity_operator=stress")});
+}
+
 INSTANTIATE_TEST_SUITE_P(ShippedPreviews, StepAllocations,
                          ::testing::Values("cookie-on-a-tray", "cookie-on-a-tray-sph", "dam-break",
                                            "zhang-loaf-unrisen-sph", "zhang-loaf-unrisen-mpm", "dough-pull-twist",
