@@ -63,6 +63,41 @@ std::vector<std::string> apply_material_presets(json& doc, const std::string& fi
   return notes;
 }
 
+// materials.NAME.herschel_bulkley.form "elastoviscoplastic" reads neither the
+// regularisation rate nor the material's Maxwell relaxation time (its stress
+// relaxes only by the yield flow). Given in the scene, they are refused with
+// their key path; this runs before the presets and the schema's defaults,
+// which fill both. Those (a dough preset's relaxation time, the defaults) are
+// dropped after the schema has filled them, so the resolved scene holds what
+// is read and re-runs as it is.
+void refuse_keys_the_yield_form_does_not_read(const json& doc, const std::string& file) {
+  if (!doc.contains("materials") || !doc["materials"].is_object()) return;
+  for (const auto& [name, m] : doc["materials"].items()) {
+    if (!m.is_object() || !m.contains("herschel_bulkley") || !m["herschel_bulkley"].is_object()) continue;
+    const json& hb = m["herschel_bulkley"];
+    if (hb.value("form", json()) != "elastoviscoplastic") continue;
+    const std::string path = file + ": materials." + name;
+    if (hb.contains("regularisation_rate"))
+      throw InputError(path + ".herschel_bulkley.regularisation_rate",
+                       "is not read with form \"elastoviscoplastic\" (the stress is elastic below the yield stress; "
+                       "only the regularised form has an apparent viscosity to cap): remove it");
+    if (m.contains("relaxation_time"))
+      throw InputError(path + ".relaxation_time",
+                       "is not read with herschel_bulkley.form \"elastoviscoplastic\" (the Maxwell stress relaxes "
+                       "only by the yield flow, at the consistency K the material's viscosity gives): remove it");
+  }
+}
+
+void drop_filled_keys_the_yield_form_does_not_read(json& doc) {
+  if (!doc.contains("materials") || !doc["materials"].is_object()) return;
+  for (auto& [name, m] : doc["materials"].items())
+    if (m.is_object() && m.contains("herschel_bulkley") && m["herschel_bulkley"].is_object() &&
+        m["herschel_bulkley"].value("form", json()) == "elastoviscoplastic") {
+      m.erase("relaxation_time");
+      m["herschel_bulkley"].erase("regularisation_rate");
+    }
+}
+
 // environment.oven: the air coefficient of a kind of oven and its walls' radiation, each where
 // the scene gives none. The coefficients are the midpoints of the ranges in
 // shared/spec/water-and-latent-heat.md (natural convection 10-20, forced 25-40 W/(m² K); Zhang
@@ -378,6 +413,7 @@ Scene build_scene(json doc, const std::string& file, const std::string& base_dir
   for (const SceneOverride& o : overrides) apply_override(doc, o);
   absolute_mesh_paths_of_scene(doc, base_dir);
   apply_oven_preset(doc);
+  refuse_keys_the_yield_form_does_not_read(doc, file);
   std::vector<std::string> preset_notes = apply_material_presets(doc, file);
   // Materials that leave their thermal properties to the schema's defaults (water's), before it fills them.
   std::vector<std::string> water_defaults;
@@ -390,6 +426,7 @@ Scene build_scene(json doc, const std::string& file, const std::string& base_dir
       if (!missing.empty()) water_defaults.push_back(fmt::format("materials.{} ({})", name, fmt::join(missing, ", ")));
     }
   scene_schema().validate(doc, file);
+  drop_filled_keys_the_yield_form_does_not_read(doc);
 
   const Ctx c{file, base_dir};
   Scene sc;

@@ -34,16 +34,18 @@ sph::Material build_material(const Ctx& c, const std::string& name, const json& 
   mat.specific_heat = m["specific_heat"].get<double>();
   mat.conductivity = m["conductivity"].get<double>();
   mat.elasticity = build_curve(c, path + ".elasticity", m["elasticity"]);
-  mat.relaxation_time = build_curve(c, path + ".relaxation_time", m["relaxation_time"]);
-  if (!positive_at_every_temperature(mat.relaxation_time))
-    c.fail(path + ".relaxation_time", "must stay above 0 s at every temperature");
+  if (m.contains("relaxation_time")) {  // not with the elastoviscoplastic form (scene.cpp drops it)
+    mat.relaxation_time = build_curve(c, path + ".relaxation_time", m["relaxation_time"]);
+    if (!positive_at_every_temperature(mat.relaxation_time))
+      c.fail(path + ".relaxation_time", "must stay above 0 s at every temperature");
+  }
   mat.moisture = build_pore_water(c, path, m, oven);
   if (m.contains("herschel_bulkley")) {
     const json& hb = m["herschel_bulkley"];
     sph::Material::YieldFlow flow;
     flow.yield_stress = build_curve(c, path + ".herschel_bulkley.yield_stress", hb["yield_stress"]);
     flow.flow_index = hb["flow_index"].get<double>();
-    flow.regularisation = hb["regularisation_rate"].get<double>();
+    if (hb.contains("regularisation_rate")) flow.regularisation = hb["regularisation_rate"].get<double>();
     flow.elastoviscoplastic = hb["form"].get<std::string>() == "elastoviscoplastic";
     if (flow.elastoviscoplastic && !positive_at_every_temperature(mat.elasticity))
       c.fail(path + ".herschel_bulkley.form",

@@ -1114,6 +1114,36 @@ TEST(Scene, SphElastoviscoplasticYieldNeedsAnElasticity) {
   EXPECT_FALSE(parse_scene(regularised.dump(), "scene.json", ".").sph.materials[0].yield_flow->elastoviscoplastic);
 }
 
+// The elastoviscoplastic form reads neither the regularisation rate nor the
+// Maxwell relaxation time: given, each is refused with its key path (the
+// schema's defaults fill both, so the check reads the scene as written); a
+// preset's relaxation time is dropped from the resolved scene.
+TEST(Scene, SphElastoviscoplasticRefusesTheKeysItDoesNotRead) {
+  json d = base_scene();
+  d["materials"]["water"]["elasticity"] = 2e4;
+  d["materials"]["water"]["herschel_bulkley"] = {
+      {"yield_stress", 50.0}, {"form", "elastoviscoplastic"}, {"regularisation_rate", 0.01}};
+  expect_error(d, {"scene.json: materials.water.herschel_bulkley.regularisation_rate", "remove it"});
+  d["materials"]["water"]["herschel_bulkley"].erase("regularisation_rate");
+  d["materials"]["water"]["relaxation_time"] = 5.0;
+  expect_error(d, {"scene.json: materials.water.relaxation_time", "remove it"});
+  d["materials"]["water"].erase("relaxation_time");
+  EXPECT_NO_THROW(parse_scene(d.dump(), "scene.json", "."));
+  // The regularised form reads both.
+  json regularised = base_scene();
+  regularised["materials"]["water"]["relaxation_time"] = 5.0;
+  regularised["materials"]["water"]["herschel_bulkley"] = {{"yield_stress", 50.0}, {"regularisation_rate", 0.01}};
+  EXPECT_NO_THROW(parse_scene(regularised.dump(), "scene.json", "."));
+  // A preset's relaxation time (the lean dough's viscoelastic curve) is dropped, not refused.
+  json preset = base_scene();
+  preset["materials"]["water"] = {{"preset", "lean-bread-dough"},
+                                  {"herschel_bulkley", {{"yield_stress", 50.0}, {"form", "elastoviscoplastic"}}}};
+  const Scene s = parse_scene(preset.dump(), "scene.json", ".");
+  ASSERT_TRUE(s.sph.materials[0].yield_flow.has_value());
+  EXPECT_TRUE(s.sph.materials[0].yield_flow->elastoviscoplastic);
+  EXPECT_FALSE(s.resolved["materials"]["water"].contains("relaxation_time"));
+}
+
 // SPH's stress-form viscosity is implicit: auto picks the implicit solve,
 // explicit is an error naming the key; MPM does not read it.
 TEST(Scene, SphStressViscosityIsImplicit) {
