@@ -70,12 +70,16 @@ std::vector<std::string> apply_material_presets(json& doc, const std::string& fi
 // which fill both. Those (a dough preset's relaxation time, the defaults) are
 // dropped after the schema has filled them, so the resolved scene holds what
 // is read and re-runs as it is.
+bool elastoviscoplastic_form(const json& m) {
+  return m.is_object() && m.contains("herschel_bulkley") && m["herschel_bulkley"].is_object() &&
+         m["herschel_bulkley"].value("form", json()) == "elastoviscoplastic";
+}
+
 void refuse_keys_the_yield_form_does_not_read(const json& doc, const std::string& file) {
   if (!doc.contains("materials") || !doc["materials"].is_object()) return;
   for (const auto& [name, m] : doc["materials"].items()) {
-    if (!m.is_object() || !m.contains("herschel_bulkley") || !m["herschel_bulkley"].is_object()) continue;
+    if (!elastoviscoplastic_form(m)) continue;
     const json& hb = m["herschel_bulkley"];
-    if (hb.value("form", json()) != "elastoviscoplastic") continue;
     const std::string path = file + ": materials." + name;
     if (hb.contains("regularisation_rate"))
       throw InputError(path + ".herschel_bulkley.regularisation_rate",
@@ -91,8 +95,7 @@ void refuse_keys_the_yield_form_does_not_read(const json& doc, const std::string
 void drop_filled_keys_the_yield_form_does_not_read(json& doc) {
   if (!doc.contains("materials") || !doc["materials"].is_object()) return;
   for (auto& [name, m] : doc["materials"].items())
-    if (m.is_object() && m.contains("herschel_bulkley") && m["herschel_bulkley"].is_object() &&
-        m["herschel_bulkley"].value("form", json()) == "elastoviscoplastic") {
+    if (elastoviscoplastic_form(m)) {
       m.erase("relaxation_time");
       m["herschel_bulkley"].erase("regularisation_rate");
     }
