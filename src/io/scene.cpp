@@ -81,14 +81,17 @@ void refuse_keys_the_yield_form_does_not_read(const json& doc, const std::string
     if (!elastoviscoplastic_form(m)) continue;
     const json& hb = m["herschel_bulkley"];
     const std::string path = file + ": materials." + name;
+    // A base file ("extends") that gives the key is named by parse_scene; the variant removes it with null.
     if (hb.contains("regularisation_rate"))
       throw InputError(path + ".herschel_bulkley.regularisation_rate",
                        "is not read with form \"elastoviscoplastic\" (the stress is elastic below the yield stress; "
-                       "only the regularised form has an apparent viscosity to cap): remove it");
+                       "only the regularised form has an apparent viscosity to cap): remove it, or write it as null "
+                       "in a scene that extends the file giving it");
     if (m.contains("relaxation_time"))
       throw InputError(path + ".relaxation_time",
                        "is not read with herschel_bulkley.form \"elastoviscoplastic\" (the Maxwell stress relaxes "
-                       "only by the yield flow, at the consistency K the material's viscosity gives): remove it");
+                       "only by the yield flow, at the consistency K the material's viscosity gives): remove it, or "
+                       "write it as null in a scene that extends the file giving it");
   }
 }
 

@@ -1142,6 +1142,28 @@ TEST(Scene, SphElastoviscoplasticRefusesTheKeysItDoesNotRead) {
   ASSERT_TRUE(s.sph.materials[0].yield_flow.has_value());
   EXPECT_TRUE(s.sph.materials[0].yield_flow->elastoviscoplastic);
   EXPECT_FALSE(s.resolved["materials"]["water"].contains("relaxation_time"));
+  // A variant that switches a base's regularised material to the form: the error names the base
+  // file's key; null in the variant removes it (the merge patch's rule).
+  const auto dir = scene_folder("bakesim_test_extends_evp");
+  write_json(dir / "base.json", regularised);
+  json variant = {{"extends", "base.json"},
+                  {"materials",
+                   {{"water",
+                     {{"elasticity", 2e4},
+                      {"herschel_bulkley", {{"form", "elastoviscoplastic"}, {"regularisation_rate", nullptr}}}}}}}};
+  write_json(dir / "variant.json", variant);
+  try {
+    load_scene((dir / "variant.json").string());
+    ADD_FAILURE() << "the base's relaxation_time was not refused";
+  } catch (const InputError& e) {
+    EXPECT_NE(e.where().find("base.json: materials.water.relaxation_time"), std::string::npos) << e.where();
+    EXPECT_NE(e.detail().find("write it as null"), std::string::npos) << e.detail();
+  }
+  variant["materials"]["water"]["relaxation_time"] = nullptr;
+  write_json(dir / "variant.json", variant);
+  const Scene v = load_scene((dir / "variant.json").string());
+  EXPECT_TRUE(v.sph.materials[0].yield_flow->elastoviscoplastic);
+  EXPECT_FALSE(v.resolved["materials"]["water"].contains("relaxation_time"));
 }
 
 // SPH's stress-form viscosity is implicit: auto picks the implicit solve,
