@@ -104,7 +104,11 @@ Vec3 up_direction(const Scene& scene) {
 }  // namespace
 
 FrameRecorder::FrameRecorder(const Scene& scene, const Solver& solver) : scene_(scene) {
-  if (solver.heats()) bake_.emplace(solver.particles(), scene.bodies.size(), scene.oven.boiling_point());
+  if (solver.heats()) {
+    std::vector<Real> boiling_points;
+    for (const auto& b : scene.bodies) boiling_points.push_back(b.boiling_point);
+    bake_.emplace(solver.particles(), boiling_points);
+  }
   columns_ = {"time",
               "steps",
               "dt",

@@ -478,10 +478,12 @@ Scene build_scene(json doc, const std::string& file, const std::string& base_dir
   try {
     if (sc.solver_type == "mpm") {
       sc.mpm = build_mpm_setup(c, doc, parts);
-      for (const auto& b : sc.mpm.bodies) sc.bodies.push_back({b.name, false});
+      for (const auto& b : sc.mpm.bodies)
+        sc.bodies.push_back({b.name, false, sc.mpm.materials[b.material].moisture.boiling_point});
     } else {
       sc.sph = build_sph_setup(c, doc, parts);
-      for (const auto& b : sc.sph.bodies) sc.bodies.push_back({b.name, b.hold_temperature});
+      for (const auto& b : sc.sph.bodies)
+        sc.bodies.push_back({b.name, b.hold_temperature, sc.sph.materials[b.material].moisture.boiling_point});
       // The elastoviscoplastic form holds a body at rest with the settings its
       // tests use (docs/physics.md, "Elastoviscoplastic form in SPH").
       for (const auto& m : sc.sph.materials) {

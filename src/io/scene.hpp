@@ -40,6 +40,7 @@ struct Scene {
   struct BodyInfo {
     std::string name;
     bool hold_temperature = false;  // a heater or cooler: no bake statistics
+    Real boiling_point = 100;       // its material's moisture.boiling_point, °C: where its crust starts
   };
   std::vector<BodyInfo> bodies;
   std::vector<ProbeSpec> probes;

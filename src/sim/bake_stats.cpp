@@ -22,14 +22,18 @@ const std::vector<Real>* area_attribute(const ParticleSet& ps) {
 }  // namespace
 
 BakeStatistics::BakeStatistics(const ParticleSet& initial, std::size_t bodies, Real boiling_point)
-    : bodies_(bodies),
-      crust_from_celsius_(boiling_point - kCrustBelowBoiling),
+    : BakeStatistics(initial, std::vector<Real>(bodies, boiling_point)) {}
+
+BakeStatistics::BakeStatistics(const ParticleSet& initial, const std::vector<Real>& boiling_points)
+    : bodies_(boiling_points.size()),
+      crust_from_celsius_(boiling_points),
       water_(initial.has("water_mass")),
       moisture_(water_ && initial.has("moisture") && initial.has("mass")),
       co2_(initial.has("co2") && initial.has("initial_volume")),
-      initial_water_(bodies, 0.0),
-      initial_mass_(bodies, 0.0),
-      initial_moisture_(bodies, 0.0) {
+      initial_water_(bodies_, 0.0),
+      initial_mass_(bodies_, 0.0),
+      initial_moisture_(bodies_, 0.0) {
+  for (Real& t : crust_from_celsius_) t -= kCrustBelowBoiling;
   if (!water_ || !initial.has("body_id")) {
     moisture_ = false;
     return;
@@ -115,7 +119,8 @@ std::vector<BodyBake> BakeStatistics::compute(const ParticleSet& ps) const {
           if (co2) s.co2 += (*co2)[i] * (*volume0)[i];
           if (moisture) {
             const Real x = (*moisture)[i], x0 = initial_moisture_[body[i]], v = volume(i);
-            if (x0 > 0 && t[i] >= crust_from_celsius_) s.dried_volume += v * std::clamp(1 - x / x0, Real(0), Real(1));
+            if (x0 > 0 && t[i] >= crust_from_celsius_[body[i]])
+              s.dried_volume += v * std::clamp(1 - x / x0, Real(0), Real(1));
             // The particle's outer share: its exchange area over its cross-section (MPM gives interior
             // points specks of area from the noise of the grid's boundary field).
             const Real outer = area && v > 0 ? std::min(Real(1), (*area)[i] / std::cbrt(v * v)) : Real(0);

@@ -40,6 +40,8 @@ class BakeStatistics {
   // `boiling_point`: where the oven's free water boils, °C (the crust is the
   // dough dried at or past it).
   BakeStatistics(const ParticleSet& initial, std::size_t bodies, Real boiling_point = 100);
+  // Each body's own boiling point (its material's moisture.boiling_point), one per body.
+  BakeStatistics(const ParticleSet& initial, const std::vector<Real>& boiling_points);
   bool has_water() const { return water_; }
   bool has_moisture() const { return moisture_; }
   bool has_co2() const { return co2_; }
@@ -51,7 +53,7 @@ class BakeStatistics {
 
  private:
   std::size_t bodies_;
-  Real crust_from_celsius_;
+  std::vector<Real> crust_from_celsius_;  // per body
   bool water_ = false, moisture_ = false, co2_ = false;
   std::vector<Real> initial_water_, initial_mass_, initial_moisture_;
 };

@@ -350,6 +350,17 @@ TEST(BakeStatistics, CrustIsTheDoughDriedAtTheBoilingPointSpreadOverTheExchangeA
   // Outer shares 1, 0.5, 0.
   EXPECT_NEAR(b.crust_moisture, (1 * 0.4 + 0.5 * 0.0) / 1.5, 1e-12);
   EXPECT_NEAR(b.crumb_moisture, (0.5 * 0.0 + 1 * 0.6) / 1.5, 1e-12);
+  // Each body's crust starts at its own material's boiling point: the crumb particle at 90 °C,
+  // in a body whose water boils at 88 °C (a material's moisture.boiling_point), has dried there.
+  body = {0, 0, 1};
+  area = {face, 0.5 * face, face};
+  ParticleSet start = ps;
+  start.scalar("moisture") = {0.8, 0.8, 0.8};
+  const std::vector<BodyBake> own = BakeStatistics(start, std::vector<Real>{100, 88}).compute(ps);
+  EXPECT_NEAR(own[0].crust_thickness, (0.5e-6 + 1e-6) / (1.5 * face), 1e-12);
+  EXPECT_NEAR(own[1].crust_thickness, 0.25e-6 / face, 1e-12);  // a quarter of its water gone
+  const std::vector<BodyBake> oven = BakeStatistics(start, 2, 100).compute(ps);
+  EXPECT_EQ(oven[1].crust_thickness, 0);
 }
 
 TEST(Pcg, SolvesScalarAndThreeComponentSystemsAndReportsWhatFailed) {
