@@ -488,7 +488,7 @@ Scene build_scene(json doc, const std::string& file, const std::string& base_dir
       // tests use (docs/physics.md, "Elastoviscoplastic form in SPH").
       for (const auto& m : sc.sph.materials) {
         if (!sph::elastoviscoplastic(m)) continue;
-        const std::string key = "materials." + m.name + ".herschel_bulkley.form";
+        const std::string key = file + ": materials." + m.name + ".herschel_bulkley.form";
         if (!sc.sph.settings.stress_viscosity)
           sc.warnings.push_back(key +
                                 ": elastoviscoplastic with solver.sph.viscosity_operator laplacian: the Maxwell stress "
@@ -499,6 +499,13 @@ Scene build_scene(json doc, const std::string& file, const std::string& base_dir
                                 ": elastoviscoplastic with solver.sph.negative_pressure clamp: a solid's floor layer "
                                 "carries tension, and clamped it slides out from under the body; set "
                                 "negative_pressure to keep");
+        if (sc.sph.settings.smoothing_ratio < 2.5)
+          sc.warnings.push_back(key + fmt::format(": elastoviscoplastic with solver.sph.smoothing_ratio {:g}: with a "
+                                                  "support under 2.5 spacings the particles' stresses drift apart in "
+                                                  "plastic flow and a yielding body spreads further the finer it is "
+                                                  "sampled (docs/validation.md, Cylinder slump); set smoothing_ratio "
+                                                  "to 2.5",
+                                                  sc.sph.settings.smoothing_ratio));
       }
     }
   } catch (const InputError& e) {

@@ -1101,13 +1101,17 @@ TEST(Scene, SphElastoviscoplasticYieldNeedsAnElasticity) {
   const Scene s = parse_scene(d.dump(), "scene.json", ".");
   ASSERT_TRUE(s.sph.materials[0].yield_flow.has_value());
   EXPECT_TRUE(s.sph.materials[0].yield_flow->elastoviscoplastic);
-  // With the Laplacian operator and clamped negative pressure (the defaults) it warns, naming both keys.
+  // With the Laplacian operator, clamped negative pressure and a support of 2 spacings (the
+  // defaults) it warns, naming the three keys.
   const std::vector<std::string> w = parse_scene(d.dump(), "scene.json", ".").warnings;
-  ASSERT_EQ(w.size(), 2u);
+  ASSERT_EQ(w.size(), 3u);
   EXPECT_NE(w[0].find("viscosity_operator to stress"), std::string::npos) << w[0];
   EXPECT_NE(w[1].find("negative_pressure to keep"), std::string::npos) << w[1];
+  EXPECT_NE(w[2].find("smoothing_ratio 2:"), std::string::npos) << w[2];
+  EXPECT_NE(w[2].find("set smoothing_ratio to 2.5"), std::string::npos) << w[2];
   d["solver"]["sph"]["viscosity_operator"] = "stress";
   d["solver"]["sph"]["negative_pressure"] = "keep";
+  d["solver"]["sph"]["smoothing_ratio"] = 2.5;
   EXPECT_TRUE(parse_scene(d.dump(), "scene.json", ".").warnings.empty());
   json regularised = base_scene();
   regularised["materials"]["water"]["herschel_bulkley"] = {{"yield_stress", 50.0}};

@@ -386,8 +386,7 @@ double kinetic_per_mass(const ParticleSet& ps) {
 struct SphSlumpHistory {
   double at_1s = 0, at_end = 0, kinetic = 0;
 };
-SphSlumpHistory run_evp_slump(int across, double sigma, double end, double smoothing_ratio = 0,
-                              double aspect = 1) {
+SphSlumpHistory run_evp_slump(int across, double sigma, double end, double smoothing_ratio = 0, double aspect = 1) {
   auto sph = test_support::make_sph(sph_evp_slump(across, sigma, smoothing_ratio, aspect));
   const double start = top(sph->particles());
   SphSlumpHistory h;
