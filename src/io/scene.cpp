@@ -507,6 +507,20 @@ Scene build_scene(json doc, const std::string& file, const std::string& base_dir
                                                   "to 2.5",
                                                   sc.sph.settings.smoothing_ratio));
       }
+      // The stress form's known defect beside sticky walls (docs/validation.md, "The stress form
+      // beside sticky walls"; StressViscosity.DISABLED_*Study).
+      if (sc.sph.settings.stress_viscosity)
+        for (std::size_t i = 0; i < sc.sph.colliders.size(); ++i) {
+          if (sc.sph.colliders[i].contact.mode != ContactMode::sticky) continue;
+          sc.warnings.push_back(fmt::format(
+              "{}: solver.sph.viscosity_operator: \"stress\" beside the sticky collider '{}' (colliders[{}]): the "
+              "stress form's gradient does not see a sticky wall's velocity and leaves a layer-by-layer mode beside "
+              "it undamped (between sticky plates a Poiseuille flow's layers run at 0.71-0.99 of their speed, an "
+              "elastoviscoplastic Bingham channel at 2.6-2.9 times its plug; docs/validation.md); for flows along "
+              "sticky walls use viscosity_operator laplacian",
+              file, sc.sph.colliders[i].name, i));
+          break;
+        }
     }
   } catch (const InputError& e) {
     // "The bodies would hold 1e11 particles" is, most often, a size typed in millimetres: say so.

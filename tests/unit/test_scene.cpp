@@ -1183,6 +1183,25 @@ TEST(Scene, SphStressViscosityIsImplicit) {
   EXPECT_FALSE(parse_scene(plain.dump(), "scene.json", ".").sph.settings.stress_viscosity);
 }
 
+// The stress form beside a sticky collider warns, naming the operator's key
+// and the collider (a known defect: docs/validation.md).
+TEST(Scene, SphStressViscosityBesideAStickyWallWarns) {
+  json doc = base_scene();
+  doc["solver"]["sph"]["viscosity_operator"] = "stress";
+  doc["colliders"] = json::array({{{"name", "plate"},
+                                   {"shape", {{"type", "plane"}, {"point", {0, 0, 0}}, {"normal", {0, 1, 0}}}},
+                                   {"contact", "sticky"}}});
+  const std::vector<std::string> w = parse_scene(doc.dump(), "scene.json", ".").warnings;
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_NE(w[0].find("scene.json: solver.sph.viscosity_operator"), std::string::npos) << w[0];
+  EXPECT_NE(w[0].find("'plate' (colliders[0])"), std::string::npos) << w[0];
+  doc["colliders"][0]["contact"] = "slip";
+  EXPECT_TRUE(parse_scene(doc.dump(), "scene.json", ".").warnings.empty());
+  doc["colliders"][0]["contact"] = "sticky";
+  doc["solver"]["sph"]["viscosity_operator"] = "laplacian";
+  EXPECT_TRUE(parse_scene(doc.dump(), "scene.json", ".").warnings.empty());
+}
+
 // surface.every_steps spaces the convex-hull detections; with the colour
 // method (the default), which runs every step, a spacing is an error naming the key.
 TEST(Scene, SphSurfaceEveryStepsOnlyWithTheConvexHull) {
