@@ -515,7 +515,7 @@ Scene build_scene(json doc, const std::string& file, const std::string& base_dir
           sc.warnings.push_back(fmt::format(
               "{}: solver.sph.viscosity_operator: \"stress\" beside the sticky collider '{}' (colliders[{}]): the "
               "stress form's gradient does not see a sticky wall's velocity and leaves a layer-by-layer mode beside "
-              "it undamped (between sticky plates a Poiseuille flow's layers run at 0.71-0.99 of their speed, an "
+              "it undamped (between sticky plates a Poiseuille flow's layers run at 0.71-1.03 of their speed, an "
               "elastoviscoplastic Bingham channel at 2.6-2.9 times its plug; docs/validation.md); for flows along "
               "sticky walls use viscosity_operator laplacian",
               file, sc.sph.colliders[i].name, i));
