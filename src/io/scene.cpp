@@ -499,19 +499,19 @@ Scene build_scene(json doc, const std::string& file, const std::string& base_dir
                                 ": elastoviscoplastic with solver.sph.negative_pressure clamp: a solid's floor layer "
                                 "carries tension, and clamped it slides out from under the body; set "
                                 "negative_pressure to keep");
-        if (sc.sph.settings.smoothing_ratio < 2.5)
-          sc.warnings.push_back(key + fmt::format(": elastoviscoplastic with solver.sph.smoothing_ratio {:g}: with a "
-                                                  "support under 2.5 spacings the particles' stresses drift apart in "
-                                                  "plastic flow and a yielding body spreads further the finer it is "
-                                                  "sampled (docs/validation.md, Cylinder slump); set smoothing_ratio "
-                                                  "to 2.5",
-                                                  sc.sph.settings.smoothing_ratio));
+        if (sc.sph.settings.smoothing_ratio < sph::kElastoviscoplasticSupport)
+          sc.warnings.push_back(key + fmt::format(": elastoviscoplastic with solver.sph.smoothing_ratio {0:g}: with a "
+                                                  "support under {1:g} spacings the particles' stresses drift apart "
+                                                  "in plastic flow and a yielding body spreads further the finer it "
+                                                  "is sampled (docs/validation.md, Cylinder slump); set "
+                                                  "smoothing_ratio to {1:g}",
+                                                  sc.sph.settings.smoothing_ratio, sph::kElastoviscoplasticSupport));
       }
       // The stress form's known defect beside sticky walls (docs/validation.md, "The stress form
       // beside sticky walls"; StressViscosity.DISABLED_*Study).
       if (sc.sph.settings.stress_viscosity)
         for (std::size_t i = 0; i < sc.sph.colliders.size(); ++i) {
-          if (sc.sph.colliders[i].contact.mode != ContactMode::sticky) continue;
+          if (!sph::no_slip_wall(sc.sph.colliders[i])) continue;
           sc.warnings.push_back(fmt::format(
               "{}: solver.sph.viscosity_operator: \"stress\" beside the sticky collider '{}' (colliders[{}]): the "
               "stress form's gradient does not see a sticky wall's velocity and leaves a layer-by-layer mode beside "

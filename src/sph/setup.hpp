@@ -57,6 +57,14 @@ inline constexpr Real kNeverRelaxes = 1e30;  // s
 // A yield-stress fluid whose viscosity follows its shear rate (the regularised form).
 inline bool regularised_yield_flow(const Material& m) { return m.yield_flow && !m.yield_flow->elastoviscoplastic; }
 inline bool elastoviscoplastic(const Material& m) { return m.yield_flow && m.yield_flow->elastoviscoplastic; }
+// The support, in spacings, below which an elastoviscoplastic body's stresses
+// drift apart in plastic flow (docs/validation.md, "Cylinder slump"; the scene loader warns).
+inline constexpr Real kElastoviscoplasticSupport = 2.5;
+
+// A mesh collider's surface is sampled as particles of its own; the others are analytic walls.
+inline bool analytic_wall(const Collider& c) { return !std::holds_alternative<MeshCollider>(c.geometry); }
+// The sticky analytic walls: the no-slip walls of the viscous terms.
+inline bool no_slip_wall(const Collider& c) { return analytic_wall(c) && c.contact.mode == ContactMode::sticky; }
 
 enum class BubbleDistribution { uniform, centred, layered, region };
 

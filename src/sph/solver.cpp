@@ -19,8 +19,6 @@
 namespace bakesim::sph {
 namespace {
 
-bool is_mesh(const Collider& c) { return std::holds_alternative<MeshCollider>(c.geometry); }
-
 // Largest value a temperature curve takes (curves are monotone pieces, so
 // their extremes sit at breakpoints or at the ends).
 Real curve_max(const TemperatureCurve& c) {
@@ -155,8 +153,8 @@ SphSolver::SphSolver(Setup setup)
   skin_ = std::max<Real>(skin_, 0);
   walls_.push_back(Collider{"domain", InsideBoxCollider{setup_.domain, setup_.periodic}, setup_.domain_contact,
                             RigidMotion{}, std::nullopt});
-  for (const Collider& c : setup_.colliders) (is_mesh(c) ? meshes_ : walls_).push_back(c);
-  for (const Collider& c : walls_) no_slip_walls_ |= c.contact.mode == ContactMode::sticky;
+  for (const Collider& c : setup_.colliders) (analytic_wall(c) ? walls_ : meshes_).push_back(c);
+  for (const Collider& c : walls_) no_slip_walls_ |= no_slip_wall(c);
 
   t_kick_ = timers_.add("kick");
   t_drift_ = timers_.add("drift");
