@@ -432,10 +432,11 @@ TEST(SphSlump, DISABLED_WiderSupportOverYieldStresses) {
 }
 
 // The slender column of MPM's test (H/D 4, where the relation's uniaxial
-// slices hold), ten across its diameter, h = 2.5 spacings (6 minutes on 2
-// threads): it slumps 0.22 by 0.4 s, past MPM's settled 0.171, then tips
-// over and collapses (0.719 at 1 s; docs/validation.md). MPM's quarter
-// column between its symmetry planes cannot tip.
+// slices hold), ten across its diameter, h = 2.5 spacings (its first second
+// took 2 min 13 s on 2 threads): it slumps 0.22 by 0.4 s, past MPM's
+// settled 0.171, then tips over and collapses (0.719 at 1 s;
+// docs/validation.md). MPM's quarter column between its symmetry planes
+// cannot tip.
 TEST(SphSlump, DISABLED_SlenderColumnStudy) { run_evp_slump(10, 0.5, 2.5, 2.5, 4.0); }
 
 // How far the particles' stresses agree with their neighbours' (the study
